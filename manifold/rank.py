@@ -1,0 +1,94 @@
+"""Numerical rank with a documented, scale-aware tolerance and its margin.
+
+Every rank decision of the project goes through :func:`numerical_rank`. The
+cut is relative: a singular value σᵢ counts when ``σᵢ > rtol · σ₁`` (σ₁ the
+largest), and a matrix whose σ₁ is below ``atol`` has rank 0. Relative cuts
+do not change when all lengths of a mechanism are multiplied by a common
+factor (the rows of constraint maps are made dimensionless upstream). The
+decision carries its *margin*: the last singular value kept and the first one
+dropped, so a user sees how close a call was.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+__all__ = ["DEFAULT_RTOL", "DEFAULT_ATOL", "RankDecision", "numerical_rank"]
+
+#: default relative cut, ``σ > rtol · σ₁``
+DEFAULT_RTOL = 1e-8
+#: default absolute floor: a matrix with ``σ₁ ≤ atol`` has rank 0
+DEFAULT_ATOL = 1e-12
+
+
+@dataclass(frozen=True, eq=False)
+class RankDecision:
+    """The outcome of a rank decision.
+
+    Attributes
+    ----------
+    rank : int
+    singular_values : ndarray, shape=[min(rows, columns)]
+        In descending order.
+    tolerance : float
+        The cut actually used.
+    """
+
+    rank: int
+    singular_values: np.ndarray
+    tolerance: float
+
+    @property
+    def margin(self):
+        """``(σ_rank, σ_rank+1)``: the smallest value kept and the largest dropped.
+
+        Either entry is ``None`` where it does not exist.
+        """
+        values = self.singular_values
+        kept = float(values[self.rank - 1]) if self.rank > 0 else None
+        dropped = float(values[self.rank]) if self.rank < len(values) else None
+        return kept, dropped
+
+    def to_dict(self):
+        kept, dropped = self.margin
+        return {
+            "rank": int(self.rank),
+            "tolerance": float(self.tolerance),
+            "singular_values": [float(value) for value in self.singular_values],
+            "margin": {"smallest_kept": kept, "largest_dropped": dropped},
+        }
+
+
+def numerical_rank(matrix, rtol=DEFAULT_RTOL, atol=DEFAULT_ATOL):
+    """Rank of a matrix by a relative singular-value cut.
+
+    Parameters
+    ----------
+    matrix : array_like, shape=[rows, columns]
+    rtol : float
+        Relative cut: σᵢ counts when ``σᵢ > rtol · σ₁``.
+    atol : float
+        Absolute floor on σ₁ below which the rank is 0.
+
+    Returns
+    -------
+    decision : RankDecision
+
+    Examples
+    --------
+    >>> decision = numerical_rank([[1.0, 0.0], [0.0, 1e-12]])
+    >>> decision.rank, decision.margin
+    (1, (1.0, 1e-12))
+    """
+    matrix = np.asarray(matrix, dtype=float)
+    if matrix.ndim != 2:
+        raise ValueError(f"Expected a matrix of shape (rows, columns), got shape {matrix.shape}")
+    if matrix.size == 0:
+        return RankDecision(0, np.zeros(0), float(atol))
+    values = np.linalg.svd(matrix, compute_uv=False)
+    largest = values[0] if len(values) else 0.0
+    tolerance = max(rtol * largest, atol)
+    rank = int(np.count_nonzero(values > tolerance))
+    return RankDecision(rank, values, float(tolerance))

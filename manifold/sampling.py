@@ -1,0 +1,142 @@
+"""Sampling an implicit manifold: local rank, local dimension, global samples.
+
+The rank r of DΦ *on M near p* is estimated by projecting a few random
+points of a small ball around p back onto M and taking the largest rank of
+DΦ found there (at a singular point of M, nearby points are regular). The
+local dimension is then ``m = k − r`` (DESIGN.md, "Dimension").
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .errors import ProjectionError
+from .implicit import project
+from .rank import DEFAULT_ATOL, DEFAULT_RTOL, numerical_rank
+
+__all__ = ["LocalRank", "local_rank", "sample_manifold", "largest_rank"]
+
+
+@dataclass(frozen=True, eq=False)
+class LocalRank:
+    """Rank of DΦ on M near a point.
+
+    Attributes
+    ----------
+    rank : int
+        The largest rank of DΦ over the neighbours (and the point itself).
+    dimension : int
+        ``k − rank``, the local dimension of M.
+    neighbours : ndarray, shape=[count, point_size]
+        The points of M used.
+    """
+
+    rank: int
+    dimension: int
+    neighbours: np.ndarray
+
+
+def local_rank(manifold, point, rng, count=6, radius=1e-3, rtol=DEFAULT_RTOL, atol=DEFAULT_ATOL):
+    """Rank of DΦ on M in a small neighbourhood of `point`.
+
+    Parameters
+    ----------
+    manifold : ImplicitManifold
+    point : array_like, shape=[point_size]
+        A point of M.
+    rng : numpy.random.Generator
+    count : int
+        Number of neighbours that must be found.
+    radius : float
+        Size of the random steps, relative to each coordinate's scale.
+
+    Returns
+    -------
+    LocalRank
+    """
+    ambient = manifold.ambient
+    scales = ambient.tangent_scales
+    rank = numerical_rank(manifold.constraint_jacobian(point), rtol=rtol, atol=atol).rank
+    neighbours = []
+    attempts = 0
+    while len(neighbours) < count and attempts < 4 * count:
+        attempts += 1
+        direction = rng.standard_normal(ambient.dim)
+        direction /= np.linalg.norm(direction)
+        guess = ambient.retract(point, radius * scales * direction)
+        try:
+            neighbour = project(manifold, guess, max_step=10 * radius * scales.max())
+        except ProjectionError:
+            continue
+        if np.linalg.norm(ambient.inverse_retract(point, neighbour) / scales) > 20 * radius:
+            continue
+        neighbours.append(neighbour)
+        rank = max(rank, numerical_rank(manifold.constraint_jacobian(neighbour), rtol=rtol, atol=atol).rank)
+    return LocalRank(rank, ambient.dim - rank, np.array(neighbours).reshape(-1, ambient.point_size))
+
+
+def sample_manifold(manifold, rng, starts, random_count=24, walk_count=24, step=0.3):
+    """Points of M spread over its assembly branches.
+
+    Two sources: Gauss-Newton from uniformly random points of K (reaching
+    other assembly branches), and a random walk on M from each start
+    (exploring the start's branch).
+
+    Parameters
+    ----------
+    manifold : ImplicitManifold
+    rng : numpy.random.Generator
+    starts : array_like, shape=[n, point_size]
+        Points of M to walk from (e.g. the home configuration).
+    random_count : int
+        Number of random starts in K.
+    walk_count : int
+        Number of random-walk steps per start.
+    step : float
+        Walk step, relative to the coordinate scales.
+
+    Returns
+    -------
+    samples : ndarray, shape=[count, point_size]
+    """
+    ambient = manifold.ambient
+    scales = ambient.tangent_scales
+    starts = np.atleast_2d(np.asarray(starts, dtype=float))
+    samples = [start for start in starts]
+    for guess in ambient.random_point(rng, center=starts[0], size=random_count):
+        try:
+            samples.append(project(manifold, guess, max_step=scales.max()))
+        except ProjectionError:
+            continue
+    for start in starts:
+        current = start
+        for _ in range(walk_count):
+            direction = rng.standard_normal(ambient.dim)
+            direction /= np.linalg.norm(direction)
+            try:
+                candidate = project(manifold, ambient.retract(current, step * scales * direction),
+                                    max_step=step * scales.max())
+            except ProjectionError:
+                continue
+            samples.append(candidate)
+            current = candidate
+    return np.array(samples)
+
+
+def largest_rank(matrix_field, points, rtol=DEFAULT_RTOL, atol=DEFAULT_ATOL):
+    """The largest numerical rank a matrix field reaches over sample points.
+
+    Parameters
+    ----------
+    matrix_field : callable
+        ``matrix_field(point) -> array, shape=[rows, columns]``.
+    points : array_like, shape=[count, point_size]
+
+    Returns
+    -------
+    rank : int
+    """
+    return max((numerical_rank(matrix_field(point), rtol=rtol, atol=atol).rank for point in points),
+               default=0)

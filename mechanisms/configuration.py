@@ -1,0 +1,165 @@
+"""Configurations: points of the ambient space built from joint displacements.
+
+A configuration is ``home ⊕ displacement``: the home (all joint values zero,
+rotations identity) moved by the joint values the user gives (DESIGN.md,
+"Mechanism file"). A configuration that does not close the loops is refused
+unless it is projected onto the C-space.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from manifold import ProjectionError, project, rotation_exp, rotation_log
+
+from .errors import ConfigurationError
+from .joints import joint_factors
+from .kinematics import closes, configuration_space, constraint, kinematics_of
+
+__all__ = [
+    "CLOSURE_TOLERANCE", "home", "validate_displacements", "from_displacements",
+    "to_displacements", "configuration", "Projected",
+]
+
+#: largest |Φ| (dimensionless rows) for a configuration to count as closed
+CLOSURE_TOLERANCE = 1e-9
+
+
+def home(mechanism):
+    """The home configuration, shape=[point_size]."""
+    return kinematics_of(mechanism).ambient.neutral()
+
+
+def _is_number(value):
+    return isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, bool)
+
+
+def validate_displacements(mechanism, displacements, where="displacements"):
+    """Check a mapping joint name -> displacement against a mechanism.
+
+    A number for R and P joints, 3 numbers (a rotation vector) for S, 2 numbers
+    for U and C. Raises :class:`ConfigurationError` naming the joint.
+    """
+    if not isinstance(displacements, dict):
+        raise ConfigurationError(f"{where}: expected a mapping from joint names to displacements, "
+                                 f"got {type(displacements).__name__}")
+    names = {joint.name: joint for joint in mechanism.joints}
+    for name, value in displacements.items():
+        if name not in names:
+            raise ConfigurationError(f"{where}: joint {name!r}: unknown joint")
+        joint = names[name]
+        size = {"R": 1, "P": 1, "S": 3, "U": 2, "C": 2}[joint.type]
+        values = [value] if size == 1 and _is_number(value) else value
+        if size == 1 and not _is_number(value):
+            raise ConfigurationError(f"{where}: joint {name!r}: expected a number, got {value!r}")
+        if not isinstance(values, (list, tuple)) or len(values) != size or not all(map(_is_number, values)):
+            raise ConfigurationError(f"{where}: joint {name!r}: expected a list of {size} numbers "
+                                     f"for a {joint.type} joint, got {value!r}")
+        if not all(math.isfinite(float(v)) for v in values):
+            raise ConfigurationError(f"{where}: joint {name!r}: expected finite numbers, got {value!r}")
+
+
+def from_displacements(mechanism, displacements, where="displacements"):
+    """The point ``home ⊕ displacements`` (joints not named stay at home).
+
+    Parameters
+    ----------
+    mechanism : Mechanism
+    displacements : dict
+        Joint name -> displacement.
+
+    Returns
+    -------
+    point : ndarray, shape=[point_size]
+    """
+    validate_displacements(mechanism, displacements, where)
+    compiled = kinematics_of(mechanism)
+    point = compiled.ambient.neutral()
+    factor = 0
+    for joint in mechanism.joints:
+        parts = compiled.ambient.point_slices[factor: factor + len(joint_factors(joint))]
+        factor += len(parts)
+        if joint.name not in displacements:
+            continue
+        value = displacements[joint.name]
+        if joint.type == "S":
+            point[parts[0]] = rotation_exp(np.asarray(value, dtype=float)).ravel()
+        else:
+            values = np.atleast_1d(np.asarray(value, dtype=float))
+            for part, entry in zip(parts, values):
+                point[part] = entry
+    return point
+
+
+def to_displacements(mechanism, point):
+    """The displacement mapping of a point (inverse of :func:`from_displacements`)."""
+    compiled = kinematics_of(mechanism)
+    point = np.asarray(point, dtype=float)
+    result, factor = {}, 0
+    for joint in mechanism.joints:
+        parts = compiled.ambient.point_slices[factor: factor + len(joint_factors(joint))]
+        factor += len(parts)
+        if joint.type == "S":
+            result[joint.name] = [float(v) for v in rotation_log(point[parts[0]].reshape(3, 3))]
+        elif len(parts) == 1:
+            result[joint.name] = float(point[parts[0]][0])
+        else:
+            result[joint.name] = [float(point[part][0]) for part in parts]
+    return result
+
+
+@dataclass(frozen=True, eq=False)
+class Projected:
+    """A configuration and how far projection moved it.
+
+    Attributes
+    ----------
+    point : ndarray, shape=[point_size]
+    requested : ndarray, shape=[point_size]
+    distance : float
+        Norm of the chart step from the requested point to `point` (0 when it closed).
+    """
+
+    point: np.ndarray
+    requested: np.ndarray
+    distance: float
+
+
+def configuration(mechanism, displacements=None, project_onto=False, where="displacements"):
+    """A closed configuration from displacements, refused or projected if it does not close.
+
+    Parameters
+    ----------
+    mechanism : Mechanism
+    displacements : dict, optional
+        Joint name -> displacement; default the home.
+    project_onto : bool
+        Project onto the C-space (Gauss-Newton) when the loops do not close.
+
+    Returns
+    -------
+    Projected
+
+    Raises
+    ------
+    ConfigurationError
+        If the configuration does not close and `project_onto` is false, or projection fails.
+    """
+    requested = from_displacements(mechanism, displacements or {}, where)
+    if bool(closes(mechanism, requested, CLOSURE_TOLERANCE)):
+        return Projected(requested, requested, 0.0)
+    residual = float(np.linalg.norm(constraint(mechanism, requested)))
+    if not project_onto:
+        raise ConfigurationError(
+            f"{where}: the configuration does not close the loops (|Φ| = {residual:.3g} > "
+            f"{CLOSURE_TOLERANCE:g}); give closing values or use --project")
+    manifold = configuration_space(mechanism)
+    try:
+        point = project(manifold, requested)
+    except ProjectionError as error:
+        raise ConfigurationError(f"{where}: projection onto the configuration space failed: {error}") from None
+    distance = float(np.linalg.norm(manifold.ambient.inverse_retract(requested, point)))
+    return Projected(point, requested, distance)

@@ -1,0 +1,206 @@
+"""Joints and end-effectors: the frozen nouns a mechanism is built from.
+
+Geometry is that of the assembled reference configuration ("home"), in the
+ground frame; a joint value is the displacement of the second listed link
+relative to the first (DESIGN.md, "Mechanism file").
+
+=====  ==========================  ===========================  =================
+type   fields                      value                        ambient factors
+=====  ==========================  ===========================  =================
+``R``  ``point`` (planar/spatial),  rotation angle (rad),         S¹
+       ``axis`` (spherical/spatial) right-handed about the axis
+``P``  ``axis``                    translation along the axis   ℝ
+``S``  ``point`` (spatial)         rotation vector              SO(3)
+``U``  ``point``, ``axes``         pair of angles, the first    S¹ × S¹
+                                   axis fixed in the first link
+``C``  ``point``, ``axis``         (angle, translation)         S¹ × ℝ
+=====  ==========================  ===========================  =================
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Optional
+
+import numpy as np
+
+from .errors import MechanismError
+
+__all__ = [
+    "SPACES", "JOINT_TYPES", "OUTPUTS", "Joint", "EndEffector",
+    "joint_factors", "joint_coordinate_names", "check_joint", "check_end_effector",
+]
+
+SPACES = ("planar", "spherical", "spatial")
+OUTPUTS = ("position", "orientation", "pose")
+#: joint type -> (space -> required geometric fields)
+JOINT_TYPES = {
+    "R": {"planar": ("point",), "spherical": ("axis",), "spatial": ("point", "axis")},
+    "P": {"planar": ("axis",), "spatial": ("axis",)},
+    "S": {"spatial": ("point",)},
+    "U": {"spatial": ("point", "axes")},
+    "C": {"spatial": ("point", "axis")},
+}
+_FACTORS = {"R": ("S1",), "P": ("R",), "S": ("SO3",), "U": ("S1", "S1"), "C": ("S1", "R")}
+_SUFFIXES = {"R": ("",), "P": ("",), "S": ("[x]", "[y]", "[z]"), "U": ("[1]", "[2]"),
+             "C": ("[angle]", "[slide]")}
+
+
+def _vector(values):
+    return None if values is None else tuple(float(value) for value in values)
+
+
+@dataclass(frozen=True)
+class Joint:
+    """A joint between two links.
+
+    Parameters
+    ----------
+    name : str
+    type : {"R", "P", "S", "U", "C"}
+    links : tuple of two str
+        ``(first, second)``; the value moves `second` relative to `first`.
+    point : tuple of float, optional
+        A point of the joint axis / the joint centre at home (2 numbers planar, 3 spatial).
+    axis : tuple of float, optional
+        Direction (2 numbers for a planar P, 3 otherwise). Need not be unit.
+    axes : tuple of two tuples, optional
+        For ``U``: the first axis (fixed in the first link) and the second.
+    actuated : bool
+    weight : float
+        Weight of the actuated coordinates in the actuator metric E (default 1).
+    """
+
+    name: str
+    type: str
+    links: tuple
+    point: Optional[tuple] = None
+    axis: Optional[tuple] = None
+    axes: Optional[tuple] = None
+    actuated: bool = False
+    weight: float = 1.0
+
+    def __post_init__(self):
+        object.__setattr__(self, "links", tuple(self.links))
+        object.__setattr__(self, "point", _vector(self.point))
+        object.__setattr__(self, "axis", _vector(self.axis))
+        if self.axes is not None:
+            object.__setattr__(self, "axes", tuple(_vector(axis) for axis in self.axes))
+        object.__setattr__(self, "weight", float(self.weight))
+
+
+@dataclass(frozen=True)
+class EndEffector:
+    """The end-effector: a frame on a link.
+
+    Parameters
+    ----------
+    link : str
+    point : tuple of float, optional
+        Origin of the frame at home (planar/spatial; not for spherical).
+    output : {"position", "orientation", "pose"}
+        What the end-effector map f returns: the point (ℝ² / ℝ³), the link's
+        orientation (SO(2) / SO(3)), or both (SE(2) / SE(3)).
+    """
+
+    link: str
+    point: Optional[tuple] = None
+    output: str = "position"
+
+    def __post_init__(self):
+        object.__setattr__(self, "point", _vector(self.point))
+
+
+def joint_factors(joint):
+    """Ambient factors of a joint, e.g. ``("S1", "R")`` for ``C``."""
+    return _FACTORS[joint.type]
+
+
+def joint_coordinate_names(joint):
+    """Names of a joint's tangent coordinates, e.g. ``("S1[x]", "S1[y]", "S1[z]")``."""
+    return tuple(joint.name + suffix for suffix in _SUFFIXES[joint.type])
+
+
+def _point_dimension(space):
+    return 2 if space == "planar" else 3
+
+
+def _axis_dimension(space, joint_type):
+    return 2 if (space == "planar" and joint_type == "P") else 3
+
+
+def _check_vector(values, size, where):
+    if values is None:
+        raise MechanismError(f"{where}: missing")
+    if len(values) != size:
+        raise MechanismError(f"{where}: expected {size} numbers, got {len(values)}")
+    if not all(math.isfinite(value) for value in values):
+        raise MechanismError(f"{where}: expected finite numbers, got {list(values)}")
+
+
+def _check_direction(values, size, where):
+    _check_vector(values, size, where)
+    if np.linalg.norm(values) < 1e-12:
+        raise MechanismError(f"{where}: the axis must not be zero")
+
+
+def check_joint(joint, space):
+    """Validate one joint for a space; raise :class:`MechanismError` naming the joint and field."""
+    where = f"joint {joint.name!r}"
+    if not isinstance(joint.name, str) or not joint.name:
+        raise MechanismError(f"joint name: expected a non-empty string, got {joint.name!r}")
+    if joint.type not in JOINT_TYPES:
+        raise MechanismError(f"{where}: field 'type': unknown joint type {joint.type!r} "
+                             f"(expected one of {', '.join(JOINT_TYPES)})")
+    if space not in JOINT_TYPES[joint.type]:
+        allowed = ", ".join(JOINT_TYPES[joint.type])
+        raise MechanismError(f"{where}: field 'type': a {joint.type} joint is not allowed in a "
+                             f"{space} mechanism (only {allowed})")
+    if len(joint.links) != 2 or not all(isinstance(link, str) and link for link in joint.links):
+        raise MechanismError(f"{where}: field 'links': expected two link names, got {list(joint.links)}")
+    if joint.links[0] == joint.links[1]:
+        raise MechanismError(f"{where}: field 'links': a joint cannot join link "
+                             f"{joint.links[0]!r} to itself")
+    if not isinstance(joint.actuated, bool):
+        raise MechanismError(f"{where}: field 'actuated': expected true or false, got {joint.actuated!r}")
+    if not math.isfinite(joint.weight) or joint.weight <= 0:
+        raise MechanismError(f"{where}: field 'weight': expected a positive finite number, got {joint.weight!r}")
+    if joint.actuated and joint.type == "S":
+        raise MechanismError(f"{where}: field 'actuated': an S joint cannot be actuated")
+    required = JOINT_TYPES[joint.type][space]
+    for name in ("point", "axis", "axes"):
+        if name not in required and getattr(joint, name) is not None:
+            raise MechanismError(f"{where}: field {name!r}: not used by a {space} {joint.type} joint")
+    if "point" in required:
+        _check_vector(joint.point, _point_dimension(space), f"{where}: field 'point'")
+    if "axis" in required:
+        _check_direction(joint.axis, _axis_dimension(space, joint.type), f"{where}: field 'axis'")
+    if "axes" in required:
+        if joint.axes is None or len(joint.axes) != 2:
+            raise MechanismError(f"{where}: field 'axes': expected two axes [first, second]")
+        for index, axis in enumerate(joint.axes):
+            _check_direction(axis, 3, f"{where}: field 'axes[{index}]'")
+        first, second = (np.asarray(axis) / np.linalg.norm(axis) for axis in joint.axes)
+        if np.linalg.norm(np.cross(first, second)) < 1e-9:
+            raise MechanismError(f"{where}: field 'axes': the two axes of a U joint must not be parallel")
+
+
+def check_end_effector(end_effector, space, links):
+    """Validate an end-effector; raise :class:`MechanismError` naming the field."""
+    where = "end_effector"
+    if end_effector.link not in links:
+        raise MechanismError(f"{where}: field 'link': unknown link {end_effector.link!r}")
+    if end_effector.output not in OUTPUTS:
+        raise MechanismError(f"{where}: field 'output': expected one of {', '.join(OUTPUTS)}, "
+                             f"got {end_effector.output!r}")
+    if space == "spherical":
+        if end_effector.point is not None:
+            raise MechanismError(f"{where}: field 'point': not used by a spherical mechanism")
+        if end_effector.output != "orientation":
+            raise MechanismError(f"{where}: field 'output': a spherical mechanism's end-effector "
+                                 f"output must be 'orientation'")
+        return
+    if end_effector.point is None and end_effector.output == "orientation":
+        return
+    _check_vector(end_effector.point, _point_dimension(space), f"{where}: field 'point'")
