@@ -1,8 +1,18 @@
 """Numerical rank with a documented, scale-aware tolerance and its margin.
 
 Every rank decision of the project goes through :func:`numerical_rank`. The
-cut is relative: a singular value σᵢ counts when ``σᵢ > rtol · σ₁`` (σ₁ the
-largest), and a matrix whose σ₁ is below ``atol`` has rank 0. Relative cuts
+cut is relative: a singular value σᵢ counts when ``σᵢ > rtol · s`` where s
+is a reference scale, by default σ₁ (the largest singular value). A matrix
+restricted to a subspace (G = Tᵀ E T, J = Df T) passes the scale of the
+unrestricted map (``σ₁(E^½)``, ``σ₁(Df)``), so that a map that is small on
+the whole subspace is seen as small. A matrix whose scale is below ``atol``
+has rank 0.
+
+At a fold of M (a turning point such as the slider-crank's sin θ = l/R) a
+singular value grows like the square root of the distance to the
+singularity, so a configuration given to rounding error (1e-16) shows
+σ ≈ 1e-8: the default cut ``rtol = 1e-6`` sits above that and well below the
+singular values of any configuration a user would call regular. Relative cuts
 do not change when all lengths of a mechanism are multiplied by a common
 factor (the rows of constraint maps are made dimensionless upstream). The
 decision carries its *margin*: the last singular value kept and the first one
@@ -17,8 +27,8 @@ import numpy as np
 
 __all__ = ["DEFAULT_RTOL", "DEFAULT_ATOL", "RankDecision", "numerical_rank"]
 
-#: default relative cut, ``σ > rtol · σ₁``
-DEFAULT_RTOL = 1e-8
+#: default relative cut, ``σ > rtol · scale``
+DEFAULT_RTOL = 1e-6
 #: default absolute floor: a matrix with ``σ₁ ≤ atol`` has rank 0
 DEFAULT_ATOL = 1e-12
 
@@ -61,16 +71,18 @@ class RankDecision:
         }
 
 
-def numerical_rank(matrix, rtol=DEFAULT_RTOL, atol=DEFAULT_ATOL):
+def numerical_rank(matrix, rtol=DEFAULT_RTOL, atol=DEFAULT_ATOL, scale=None):
     """Rank of a matrix by a relative singular-value cut.
 
     Parameters
     ----------
     matrix : array_like, shape=[rows, columns]
     rtol : float
-        Relative cut: σᵢ counts when ``σᵢ > rtol · σ₁``.
+        Relative cut: σᵢ counts when ``σᵢ > rtol · scale``.
     atol : float
-        Absolute floor on σ₁ below which the rank is 0.
+        Absolute floor of the cut.
+    scale : float, optional
+        Reference magnitude; default σ₁ of `matrix` itself.
 
     Returns
     -------
@@ -88,7 +100,7 @@ def numerical_rank(matrix, rtol=DEFAULT_RTOL, atol=DEFAULT_ATOL):
     if matrix.size == 0:
         return RankDecision(0, np.zeros(0), float(atol))
     values = np.linalg.svd(matrix, compute_uv=False)
-    largest = values[0] if len(values) else 0.0
-    tolerance = max(rtol * largest, atol)
+    reference = (values[0] if len(values) else 0.0) if scale is None else float(scale)
+    tolerance = max(rtol * reference, atol)
     rank = int(np.count_nonzero(values > tolerance))
     return RankDecision(rank, values, float(tolerance))

@@ -1,0 +1,24 @@
+"""Classification of closed-chain singularities (Park & Kim) and their metrics.
+
+Metrics E, G, H and manipulability proper values; the three kinds of
+singularity with their expected ranks; the second-order test for actuator
+singularities; reports. Imports :mod:`mechanisms` and :mod:`manifold`.
+"""
+
+from .classification import classify, classify_many
+from .metrics import (
+    Manipulability, actuator_metric, end_effector_metric, manipulability,
+    pullback_metric, weighted_actuator_jacobian,
+)
+from .report import KINDS, KindResult, Report
+from .second_order import SECOND_ORDER_RTOL, SecondOrderResult, SelfMotion, fibre, second_order_test
+from .survey import Survey, survey
+
+__all__ = [
+    "classify", "classify_many",
+    "Manipulability", "actuator_metric", "end_effector_metric", "manipulability",
+    "pullback_metric", "weighted_actuator_jacobian",
+    "KINDS", "KindResult", "Report",
+    "SECOND_ORDER_RTOL", "SecondOrderResult", "SelfMotion", "fibre", "second_order_test",
+    "Survey", "survey",
+]

@@ -1,0 +1,130 @@
+"""Metrics on K, M and N, and the manipulability proper values.
+
+Park & Kim (`001_f823d888d0445bda.txt`), Section 2:
+
+* E on K, the actuator metric: ``ds² = Σ εᵢ dxᵢ²`` with εᵢ the weight of an
+  actuated coordinate and 0 for a passive one (eq. 5), possibly semidefinite.
+* G = Tᵀ E T on M for a basis T of T_pM (eqs. 6-7). We compute it as
+  ``G = AᵀA`` with the *actuator Jacobian* ``A = E^{1/2} T`` restricted to
+  the actuated rows, so rank decisions are taken on A, whose singular values
+  are the square roots of G's eigenvalues.
+* H on N: Euclidean on ℝ²/ℝ³, bi-invariant (identity on body angular
+  velocity) on SO(2)/SO(3), and on SE(2)/SE(3) the left-invariant metric
+  ``L²|ω|² + |v|²`` on body twists (ω, v) with a length scale L.
+* The proper values of the pull-back f*h: the roots of
+  ``det(λ G − Jᵀ H J) = 0`` (Park & Kim, Section 2), with J = Df T; the
+  condition number λ₁/λₙ (eq. 3) and the volume (λ₁⋯λₙ)^½ (eq. 4).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Optional
+
+import numpy as np
+import scipy.linalg
+
+from mechanisms import actuator_jacobian, end_effector_dimension, kinematics_of
+
+__all__ = [
+    "actuator_metric", "weighted_actuator_jacobian", "end_effector_metric",
+    "pullback_metric", "Manipulability", "manipulability",
+]
+
+
+def actuator_metric(mechanism):
+    """E: the k×k actuator metric on K (Park & Kim, eq. 5), shape=[k, k]."""
+    selection = actuator_jacobian(mechanism)
+    weights = np.asarray(mechanism.actuator_weights, dtype=float)
+    return selection.T @ np.diag(weights) @ selection
+
+
+def weighted_actuator_jacobian(mechanism):
+    """``E^{1/2}`` on the actuated rows: ``diag(√w) Dπ``, shape=[a, k]."""
+    weights = np.sqrt(np.asarray(mechanism.actuator_weights, dtype=float))
+    return weights[:, None] * actuator_jacobian(mechanism)
+
+
+def end_effector_metric(mechanism, length_scale=None):
+    """H on the end-effector space, in the chart of :func:`mechanisms.end_effector_jacobian`.
+
+    Parameters
+    ----------
+    mechanism : Mechanism
+    length_scale : float, optional
+        L of the left-invariant metric on SE(2)/SE(3); default the
+        mechanism's characteristic length. Unused for other outputs.
+
+    Returns
+    -------
+    H : ndarray, shape=[n, n]
+    """
+    compiled = kinematics_of(mechanism)
+    n = end_effector_dimension(mechanism)
+    metric = np.eye(n)
+    if compiled.output == "pose":
+        scale = compiled.length if length_scale is None else float(length_scale)
+        if not np.isfinite(scale) or scale <= 0:
+            raise ValueError(f"Expected a positive finite length scale, got {length_scale!r}")
+        rotation_rows = 1 if compiled.space == "planar" else 3
+        metric[:rotation_rows, :rotation_rows] *= scale ** 2
+    return metric
+
+
+def pullback_metric(matrix, basis):
+    """``Bᵀ M B``: a metric pulled back to the span of a basis, shape=[m, m]."""
+    return basis.T @ matrix @ basis
+
+
+@dataclass(frozen=True, eq=False)
+class Manipulability:
+    """Proper values of f*h with respect to G.
+
+    Attributes
+    ----------
+    eigenvalues : ndarray
+        λ₁ ≥ … ≥ λₙ (the min(n, m) largest roots of det(λG − JᵀHJ) = 0).
+    condition_number : float or None
+        λ₁/λₙ, None when λₙ = 0 (end-effector singularity).
+    volume : float
+        (λ₁⋯λₙ)^½.
+    """
+
+    eigenvalues: np.ndarray
+    condition_number: Optional[float]
+    volume: float
+
+    def to_dict(self):
+        return {
+            "eigenvalues": [float(value) for value in self.eigenvalues],
+            "condition_number": None if self.condition_number is None else float(self.condition_number),
+            "volume": float(self.volume),
+        }
+
+
+def manipulability(actuator_block, end_effector_block, metric, count, rtol=1e-8):
+    """Manipulability proper values from the actuator and end-effector Jacobians on T_pM.
+
+    Parameters
+    ----------
+    actuator_block : ndarray, shape=[a, m]
+        ``E^{1/2} T``; G = AᵀA must be positive definite.
+    end_effector_block : ndarray, shape=[n, m]
+        J = Df T.
+    metric : ndarray, shape=[n, n]
+        H.
+    count : int
+        How many proper values to keep (min(n, m)).
+
+    Returns
+    -------
+    Manipulability
+    """
+    gram = actuator_block.T @ actuator_block
+    pulled = end_effector_block.T @ metric @ end_effector_block
+    values = scipy.linalg.eigh(pulled, gram, eigvals_only=True)
+    values = np.sort(np.clip(values, 0.0, None))[::-1][:count]
+    largest = values[0] if len(values) else 0.0
+    smallest = values[-1] if len(values) else 0.0
+    condition = None if smallest <= rtol * max(largest, 1e-300) else float(largest / smallest)
+    return Manipulability(values, condition, float(np.sqrt(np.prod(values))))

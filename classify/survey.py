@@ -1,0 +1,84 @@
+"""Global survey of a mechanism's C-space: the largest ranks reached on M.
+
+DESIGN.md: the expected ranks of G and J are ``min(m, the largest rank G
+reaches on M)`` and ``min(dim N, m, the largest rank J reaches on M)``. The
+largest ranks are estimated from points of M spread over several assembly
+branches (:func:`manifold.sample_manifold`); the estimate and the number of
+samples are reported.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from manifold import DEFAULT_RTOL, numerical_rank, sample_manifold, tangent_basis
+from mechanisms import (
+    configuration_space, end_effector_dimension, end_effector_jacobian, home,
+)
+
+from .metrics import weighted_actuator_jacobian
+
+__all__ = ["Survey", "survey"]
+
+
+@dataclass(frozen=True, eq=False)
+class Survey:
+    """Largest ranks reached over sampled points of M.
+
+    Attributes
+    ----------
+    samples : int
+        Number of points of M used.
+    constraint_rank : int
+        Largest rank of DΦ.
+    actuator_rank : int
+        Largest rank of G.
+    end_effector_rank : int or None
+        Largest rank of J (None without end-effector).
+    """
+
+    samples: int
+    constraint_rank: int
+    actuator_rank: int
+    end_effector_rank: object
+
+    def to_dict(self):
+        return {"samples": self.samples, "constraint_rank": self.constraint_rank,
+                "actuator_rank": self.actuator_rank, "end_effector_rank": self.end_effector_rank}
+
+
+def survey(mechanism, rng, starts=None, random_count=24, walk_count=24, rtol=DEFAULT_RTOL):
+    """Sample M globally and record the largest ranks of DΦ, G and J.
+
+    Parameters
+    ----------
+    mechanism : Mechanism
+    rng : numpy.random.Generator
+    starts : array_like, shape=[n, point_size], optional
+        Points of M to walk from; default the home.
+    random_count, walk_count : int
+        See :func:`manifold.sample_manifold`.
+
+    Returns
+    -------
+    Survey
+    """
+    manifold = configuration_space(mechanism)
+    starts = home(mechanism)[None] if starts is None else np.atleast_2d(starts)
+    points = sample_manifold(manifold, rng, starts, random_count=random_count, walk_count=walk_count)
+    actuators = weighted_actuator_jacobian(mechanism)
+    actuator_scale = float(np.linalg.norm(actuators, 2)) if actuators.size else 0.0
+    has_end_effector = end_effector_dimension(mechanism) > 0
+    constraint_rank = actuator_rank = 0
+    end_effector_rank = 0 if has_end_effector else None
+    for point in points:
+        basis, decision = tangent_basis(manifold, point, rtol=rtol)
+        constraint_rank = max(constraint_rank, decision.rank)
+        actuator_rank = max(actuator_rank, numerical_rank(actuators @ basis, rtol=rtol, scale=actuator_scale).rank)
+        if has_end_effector:
+            full = end_effector_jacobian(mechanism, point)
+            rank = numerical_rank(full @ basis, rtol=rtol, scale=np.linalg.norm(full, 2)).rank
+            end_effector_rank = max(end_effector_rank, rank)
+    return Survey(len(points), constraint_rank, actuator_rank, end_effector_rank)
