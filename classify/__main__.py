@@ -1,0 +1,7 @@
+"""``python -m classify`` runs the ``closedchain`` command."""
+
+import sys
+
+from .cli import main
+
+sys.exit(main())
