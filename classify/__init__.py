@@ -10,6 +10,7 @@ from .metrics import (
     Manipulability, actuator_metric, end_effector_metric, manipulability,
     pullback_metric, weighted_actuator_jacobian,
 )
+from .model import Model, model_of
 from .report import KINDS, KindResult, Report
 from .second_order import SECOND_ORDER_RTOL, SecondOrderResult, SelfMotion, fibre, second_order_test
 from .survey import Survey, survey
@@ -18,6 +19,7 @@ __all__ = [
     "classify", "classify_many",
     "Manipulability", "actuator_metric", "end_effector_metric", "manipulability",
     "pullback_metric", "weighted_actuator_jacobian",
+    "Model", "model_of",
     "KINDS", "KindResult", "Report",
     "SECOND_ORDER_RTOL", "SecondOrderResult", "SelfMotion", "fibre", "second_order_test",
     "Survey", "survey",

@@ -16,12 +16,10 @@ from __future__ import annotations
 import numpy as np
 
 from manifold import DEFAULT_RTOL, local_rank, numerical_rank, tangent_basis
-from mechanisms import (
-    CLOSURE_TOLERANCE, ConfigurationError, closes, configuration_space, end_effector_dimension,
-    end_effector_jacobian, home, to_displacements,
-)
+from mechanisms import CLOSURE_TOLERANCE, ConfigurationError, Mechanism
 
-from .metrics import end_effector_metric, manipulability, weighted_actuator_jacobian
+from .metrics import manipulability
+from .model import model_of
 from .report import KindResult, Report
 from .second_order import second_order_test
 from .survey import survey as survey_mechanism
@@ -40,7 +38,8 @@ def classify(mechanism, point, survey=None, rng=None, rtol=DEFAULT_RTOL, length_
 
     Parameters
     ----------
-    mechanism : Mechanism
+    mechanism : Mechanism or Model
+        A joint graph, or any :class:`~classify.model.Model` (e.g. an implicit description).
     point : array_like, shape=[point_size]
         A configuration on M (see :func:`mechanisms.configuration`).
     survey : Survey, optional
@@ -64,11 +63,13 @@ def classify(mechanism, point, survey=None, rng=None, rtol=DEFAULT_RTOL, length_
         If `point` does not close the loops.
     """
     rng = np.random.default_rng(0) if rng is None else rng
+    model = model_of(mechanism, length_scale) if isinstance(mechanism, Mechanism) else mechanism
     point = np.asarray(point, dtype=float)
-    if not bool(closes(mechanism, point, CLOSURE_TOLERANCE)):
-        raise ConfigurationError("the configuration does not close the loops; project it first")
-    manifold = configuration_space(mechanism)
-    names = mechanism.coordinate_names
+    manifold = model.manifold
+    residual = float(np.linalg.norm(manifold.constraint(point)))
+    if residual > CLOSURE_TOLERANCE or (manifold.is_solution is not None and not manifold.is_solution(point)):
+        raise ConfigurationError(f"the configuration is not on the C-space (|Φ| = {residual:.3g}); project it first")
+    names = model.coordinate_names
     k = manifold.ambient.dim
     notes = []
 
@@ -88,10 +89,10 @@ def classify(mechanism, point, survey=None, rng=None, rtol=DEFAULT_RTOL, length_
                         cspace_extra)
 
     if survey is None:
-        survey = survey_mechanism(mechanism, rng, starts=np.stack([home(mechanism), point]), rtol=rtol)
+        survey = survey_mechanism(model, rng, starts=np.concatenate([model.starts, point[None]]), rtol=rtol)
 
     # actuator: G = (E^½ T)ᵀ(E^½ T)
-    weighted = weighted_actuator_jacobian(mechanism)
+    weighted = model.actuators
     actuator_scale = _largest_singular_value(weighted)
     actuator_block = weighted @ basis
     actuator_decision = numerical_rank(actuator_block, rtol=rtol, scale=actuator_scale)
@@ -106,9 +107,9 @@ def classify(mechanism, point, survey=None, rng=None, rtol=DEFAULT_RTOL, length_
     # end-effector: J = Df T
     end_effector = None
     end_effector_block = None
-    n = end_effector_dimension(mechanism)
+    n = model.end_effector_dimension
     if n:
-        full = end_effector_jacobian(mechanism, point)
+        full = model.end_effector_jacobian(point)
         end_effector_block = full @ basis
         decision = numerical_rank(end_effector_block, rtol=rtol, scale=_largest_singular_value(full))
         expected = min(n, dof, survey.end_effector_rank)
@@ -121,7 +122,7 @@ def classify(mechanism, point, survey=None, rng=None, rtol=DEFAULT_RTOL, length_
     proper = None
     if n and not cspace_singular and actuator_decision.rank == basis.shape[1] and basis.shape[1] > 0:
         proper = manipulability(actuator_block, end_effector_block,
-                                end_effector_metric(mechanism, length_scale), min(n, dof), rtol=rtol)
+                                model.end_effector_metric, min(n, dof), rank=end_effector.rank)
 
     # second order, at regular points of M only
     second = None
@@ -134,8 +135,8 @@ def classify(mechanism, point, survey=None, rng=None, rtol=DEFAULT_RTOL, length_
         notes.append(f"{idle} idle freedom(s): G has rank at most {survey.actuator_rank} on M")
 
     return Report(
-        mechanism=mechanism.name, dof=dof, ambient_dimension=k, coordinate_names=names,
-        displacements=to_displacements(mechanism, point), cspace=cspace, actuator=actuator,
+        mechanism=model.name, dof=dof, ambient_dimension=k, coordinate_names=names,
+        displacements={} if model.describe is None else model.describe(point), cspace=cspace, actuator=actuator,
         end_effector=end_effector, manipulability=proper, second_order=second,
         idle_freedoms=idle, survey=survey.to_dict(), notes=tuple(notes),
     )
@@ -146,18 +147,24 @@ def classify_many(mechanism, points, survey=None, rng=None, **options):
 
     Parameters
     ----------
+    mechanism : Mechanism or Model
     points : array_like, shape=[..., point_size]
+    survey : Survey, optional
+    rng : numpy.random.Generator, optional
+    **options
+        Passed to :func:`classify`.
 
     Returns
     -------
     reports : list of Report, in C order of the batch dimensions
     """
     rng = np.random.default_rng(0) if rng is None else rng
+    model = model_of(mechanism, options.get("length_scale")) if isinstance(mechanism, Mechanism) else mechanism
     points = np.asarray(points, dtype=float)
     flat = points.reshape(-1, points.shape[-1])
     if survey is None:
-        survey = survey_mechanism(mechanism, rng, starts=np.concatenate([home(mechanism)[None], flat]))
-    return [classify(mechanism, point, survey=survey, rng=rng, **options) for point in flat]
+        survey = survey_mechanism(model, rng, starts=np.concatenate([model.starts, flat]))
+    return [classify(model, point, survey=survey, rng=rng, **options) for point in flat]
 
 
 def _largest_singular_value(matrix):

@@ -20,10 +20,11 @@ from pathlib import Path
 
 import numpy as np
 
-from mechanisms import ConfigurationError, MechanismError, configuration, home
+from mechanisms import ConfigurationError, MechanismError, configuration
 from mechanisms.io import read
 
 from .classification import classify
+from .model import model_of
 from .survey import survey as survey_mechanism
 
 __all__ = ["main", "report_table"]
@@ -153,10 +154,11 @@ def _run_report(arguments, out):
         points = {name: configuration(mechanism, values, where=f"{path}: configurations[{name!r}]").point
                   for name, values in named.items()}
         rng = np.random.default_rng(arguments.seed)
-        shared = survey_mechanism(mechanism, rng, starts=np.stack([home(mechanism)] + list(points.values())))
+        model = model_of(mechanism, arguments.length_scale)
+        shared = survey_mechanism(model, rng, starts=np.stack(list(points.values())))
         for name, point in points.items():
             print(f"classifying {path} [{name}]", file=sys.stderr)
-            report = classify(mechanism, point, survey=shared, rng=rng, length_scale=arguments.length_scale)
+            report = classify(model, point, survey=shared, rng=rng)
             reports.append((str(path), name, report))
     if arguments.format == "json":
         text = json.dumps([{"file": path, "configuration": name, **report.to_dict()}

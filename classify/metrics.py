@@ -102,7 +102,7 @@ class Manipulability:
         }
 
 
-def manipulability(actuator_block, end_effector_block, metric, count, rtol=1e-8):
+def manipulability(actuator_block, end_effector_block, metric, count, rank=None, rtol=1e-6):
     """Manipulability proper values from the actuator and end-effector Jacobians on T_pM.
 
     Parameters
@@ -115,6 +115,11 @@ def manipulability(actuator_block, end_effector_block, metric, count, rtol=1e-8)
         H.
     count : int
         How many proper values to keep (min(n, m)).
+    rank : int, optional
+        The numerical rank of J (from the end-effector rank decision); when
+        below `count`, λₙ is zero and the condition number is None.
+    rtol : float
+        Without `rank`, λₙ counts as zero when ``λₙ ≤ rtol · λ₁``.
 
     Returns
     -------
@@ -126,5 +131,6 @@ def manipulability(actuator_block, end_effector_block, metric, count, rtol=1e-8)
     values = np.sort(np.clip(values, 0.0, None))[::-1][:count]
     largest = values[0] if len(values) else 0.0
     smallest = values[-1] if len(values) else 0.0
-    condition = None if smallest <= rtol * max(largest, 1e-300) else float(largest / smallest)
+    vanishing = (rank < count) if rank is not None else smallest <= rtol * largest
+    condition = None if vanishing or smallest <= 0.0 else float(largest / smallest)
     return Manipulability(values, condition, float(np.sqrt(np.prod(values))))

@@ -14,11 +14,6 @@ from dataclasses import dataclass
 import numpy as np
 
 from manifold import DEFAULT_RTOL, numerical_rank, sample_manifold, tangent_basis
-from mechanisms import (
-    configuration_space, end_effector_dimension, end_effector_jacobian, home,
-)
-
-from .metrics import weighted_actuator_jacobian
 
 __all__ = ["Survey", "survey"]
 
@@ -49,15 +44,15 @@ class Survey:
                 "actuator_rank": self.actuator_rank, "end_effector_rank": self.end_effector_rank}
 
 
-def survey(mechanism, rng, starts=None, random_count=24, walk_count=24, rtol=DEFAULT_RTOL):
+def survey(model, rng, starts=None, random_count=24, walk_count=24, rtol=DEFAULT_RTOL):
     """Sample M globally and record the largest ranks of DΦ, G and J.
 
     Parameters
     ----------
-    mechanism : Mechanism
+    model : Model
     rng : numpy.random.Generator
     starts : array_like, shape=[n, point_size], optional
-        Points of M to walk from; default the home.
+        Points of M to walk from; default ``model.starts``.
     random_count, walk_count : int
         See :func:`manifold.sample_manifold`.
 
@@ -65,12 +60,12 @@ def survey(mechanism, rng, starts=None, random_count=24, walk_count=24, rtol=DEF
     -------
     Survey
     """
-    manifold = configuration_space(mechanism)
-    starts = home(mechanism)[None] if starts is None else np.atleast_2d(starts)
+    manifold = model.manifold
+    starts = model.starts if starts is None else np.atleast_2d(starts)
     points = sample_manifold(manifold, rng, starts, random_count=random_count, walk_count=walk_count)
-    actuators = weighted_actuator_jacobian(mechanism)
+    actuators = model.actuators
     actuator_scale = float(np.linalg.norm(actuators, 2)) if actuators.size else 0.0
-    has_end_effector = end_effector_dimension(mechanism) > 0
+    has_end_effector = model.end_effector_dimension > 0
     constraint_rank = actuator_rank = 0
     end_effector_rank = 0 if has_end_effector else None
     for point in points:
@@ -78,7 +73,7 @@ def survey(mechanism, rng, starts=None, random_count=24, walk_count=24, rtol=DEF
         constraint_rank = max(constraint_rank, decision.rank)
         actuator_rank = max(actuator_rank, numerical_rank(actuators @ basis, rtol=rtol, scale=actuator_scale).rank)
         if has_end_effector:
-            full = end_effector_jacobian(mechanism, point)
+            full = model.end_effector_jacobian(point)
             rank = numerical_rank(full @ basis, rtol=rtol, scale=np.linalg.norm(full, 2)).rank
             end_effector_rank = max(end_effector_rank, rank)
     return Survey(len(points), constraint_rank, actuator_rank, end_effector_rank)

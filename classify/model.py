@@ -1,0 +1,84 @@
+"""What a classification needs, whatever produced it: :class:`Model`.
+
+A :class:`Model` bundles an implicit C-space M ⊂ K, the (weighted) actuator
+selection ``E^{1/2} Dπ`` and optionally the end-effector Jacobian and metric
+H. :func:`model_of` builds one from a joint-graph mechanism; a user can build
+one directly from an implicit description such as Park & Kim's eq. (8) for
+the five-bar, and both are classified by the same code.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Callable, Optional
+
+import numpy as np
+
+from manifold import ImplicitManifold
+from mechanisms import (
+    configuration_space, end_effector_dimension, end_effector_jacobian, home, to_displacements,
+)
+
+from .metrics import end_effector_metric, weighted_actuator_jacobian
+
+__all__ = ["Model", "model_of"]
+
+
+@dataclass(frozen=True, eq=False)
+class Model:
+    """The inputs of a classification.
+
+    Parameters
+    ----------
+    name : str
+    manifold : ImplicitManifold
+        The C-space, with constraint Jacobian and Hessian in recentred charts.
+    actuators : ndarray, shape=[a, k]
+        ``E^{1/2} Dπ``: rows select the actuated coordinates (real or circle
+        factors), scaled by the square roots of their weights.
+    coordinate_names : tuple of str
+        Names of the k tangent coordinates.
+    starts : ndarray, shape=[s, point_size]
+        Known points of M (e.g. the home) from which the survey walks.
+    end_effector_jacobian : callable, optional
+        ``Df(point) -> array, shape=[n, k]`` in a chart of N.
+    end_effector_metric : ndarray, shape=[n, n], optional
+        H in that chart.
+    describe : callable, optional
+        ``describe(point) -> dict`` for the report (joint displacements).
+    """
+
+    name: str
+    manifold: ImplicitManifold
+    actuators: np.ndarray
+    coordinate_names: tuple
+    starts: np.ndarray
+    end_effector_jacobian: Optional[Callable] = None
+    end_effector_metric: Optional[np.ndarray] = None
+    describe: Optional[Callable] = None
+
+    @property
+    def end_effector_dimension(self):
+        return 0 if self.end_effector_metric is None else int(self.end_effector_metric.shape[0])
+
+
+def model_of(mechanism, length_scale=None):
+    """The :class:`Model` of a joint-graph mechanism.
+
+    Parameters
+    ----------
+    mechanism : Mechanism
+    length_scale : float, optional
+        L of the SE(2)/SE(3) end-effector metric (default the characteristic length).
+    """
+    has_end_effector = end_effector_dimension(mechanism) > 0
+    return Model(
+        name=mechanism.name,
+        manifold=configuration_space(mechanism),
+        actuators=weighted_actuator_jacobian(mechanism),
+        coordinate_names=mechanism.coordinate_names,
+        starts=home(mechanism)[None],
+        end_effector_jacobian=(lambda point: end_effector_jacobian(mechanism, point)) if has_end_effector else None,
+        end_effector_metric=end_effector_metric(mechanism, length_scale) if has_end_effector else None,
+        describe=lambda point: to_displacements(mechanism, point),
+    )
