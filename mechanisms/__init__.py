@@ -17,7 +17,9 @@ from .kinematics import (
     end_effector_dimension, end_effector_hessian, end_effector_jacobian,
     kinematics_of, link_pose,
 )
+from .io import MechanismDocument, load, loads, read, save
 from .mechanism import Mechanism
+from .rehome import flip_axis, move_base, rehome
 
 __all__ = [
     "CLOSURE_TOLERANCE", "Projected", "configuration", "from_displacements", "home",
@@ -27,5 +29,6 @@ __all__ = [
     "Kinematics", "actuator_jacobian", "closes", "configuration_space", "constraint",
     "constraint_hessian", "constraint_jacobian", "end_effector", "end_effector_chart",
     "end_effector_dimension", "end_effector_hessian", "end_effector_jacobian",
-    "kinematics_of", "link_pose", "Mechanism",
+    "kinematics_of", "link_pose", "Mechanism", "flip_axis", "move_base", "rehome",
+    "MechanismDocument", "load", "loads", "read", "save",
 ]

@@ -47,8 +47,19 @@ _SUFFIXES = {"R": ("",), "P": ("",), "S": ("[x]", "[y]", "[z]"), "U": ("[1]", "[
              "C": ("[angle]", "[slide]")}
 
 
-def _vector(values):
-    return None if values is None else tuple(float(value) for value in values)
+def _is_number(value):
+    return isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, bool)
+
+
+def _vector(values, where):
+    """A tuple of floats from a sequence of numbers; MechanismError naming the field otherwise."""
+    if values is None:
+        return None
+    if isinstance(values, (str, bytes)) or not hasattr(values, "__len__"):
+        raise MechanismError(f"{where}: expected a list of numbers, got {values!r}")
+    if not all(_is_number(value) for value in values):
+        raise MechanismError(f"{where}: expected numbers, got {list(values)!r}")
+    return tuple(float(value) for value in values)
 
 
 @dataclass(frozen=True)
@@ -82,11 +93,18 @@ class Joint:
     weight: float = 1.0
 
     def __post_init__(self):
+        where = f"joint {self.name!r}"
+        if isinstance(self.links, (str, bytes)) or not hasattr(self.links, "__len__"):
+            raise MechanismError(f"{where}: field 'links': expected two link names, got {self.links!r}")
         object.__setattr__(self, "links", tuple(self.links))
-        object.__setattr__(self, "point", _vector(self.point))
-        object.__setattr__(self, "axis", _vector(self.axis))
+        object.__setattr__(self, "point", _vector(self.point, f"{where}: field 'point'"))
+        object.__setattr__(self, "axis", _vector(self.axis, f"{where}: field 'axis'"))
         if self.axes is not None:
-            object.__setattr__(self, "axes", tuple(_vector(axis) for axis in self.axes))
+            if isinstance(self.axes, (str, bytes)) or not hasattr(self.axes, "__len__"):
+                raise MechanismError(f"{where}: field 'axes': expected two axes, got {self.axes!r}")
+            object.__setattr__(self, "axes", tuple(_vector(axis, f"{where}: field 'axes'") for axis in self.axes))
+        if not _is_number(self.weight):
+            raise MechanismError(f"{where}: field 'weight': expected a number, got {self.weight!r}")
         object.__setattr__(self, "weight", float(self.weight))
 
 
@@ -109,7 +127,7 @@ class EndEffector:
     output: str = "position"
 
     def __post_init__(self):
-        object.__setattr__(self, "point", _vector(self.point))
+        object.__setattr__(self, "point", _vector(self.point, "end_effector: field 'point'"))
 
 
 def joint_factors(joint):
@@ -155,7 +173,8 @@ def check_joint(joint, space):
                              f"(expected one of {', '.join(JOINT_TYPES)})")
     if space not in JOINT_TYPES[joint.type]:
         allowed = ", ".join(JOINT_TYPES[joint.type])
-        raise MechanismError(f"{where}: field 'type': a {joint.type} joint is not allowed in a "
+        article = "an" if joint.type in "SUR" else "a"
+        raise MechanismError(f"{where}: field 'type': {article} {joint.type} joint is not allowed in a "
                              f"{space} mechanism (only {allowed})")
     if len(joint.links) != 2 or not all(isinstance(link, str) and link for link in joint.links):
         raise MechanismError(f"{where}: field 'links': expected two link names, got {list(joint.links)}")
@@ -166,6 +185,8 @@ def check_joint(joint, space):
         raise MechanismError(f"{where}: field 'actuated': expected true or false, got {joint.actuated!r}")
     if not math.isfinite(joint.weight) or joint.weight <= 0:
         raise MechanismError(f"{where}: field 'weight': expected a positive finite number, got {joint.weight!r}")
+    if not joint.actuated and joint.weight != 1.0:
+        raise MechanismError(f"{where}: field 'weight': a weight is only used on an actuated joint")
     if joint.actuated and joint.type == "S":
         raise MechanismError(f"{where}: field 'actuated': an S joint cannot be actuated")
     required = JOINT_TYPES[joint.type][space]
@@ -201,6 +222,8 @@ def check_end_effector(end_effector, space, links):
             raise MechanismError(f"{where}: field 'output': a spherical mechanism's end-effector "
                                  f"output must be 'orientation'")
         return
-    if end_effector.point is None and end_effector.output == "orientation":
+    if end_effector.output == "orientation":
+        if end_effector.point is not None:
+            raise MechanismError(f"{where}: field 'point': not used by an 'orientation' output")
         return
     _check_vector(end_effector.point, _point_dimension(space), f"{where}: field 'point'")

@@ -1,0 +1,108 @@
+"""Moving the home of a mechanism, and other changes of description.
+
+The same physical mechanism can be described from any assembled
+configuration as its home, in any base frame, with either sign of each joint
+axis. These operations build the other descriptions, so that tests can check
+that the classification does not depend on them (DESIGN.md, "Metrics").
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+
+from . import _groups as groups
+from .kinematics import kinematics_of, link_pose
+from .mechanism import Mechanism
+
+__all__ = ["rehome", "move_base", "flip_axis"]
+
+
+def _transform_point(space, pose, point):
+    if point is None or space == "spherical":
+        return point
+    size = groups.MATRIX_SIZE[space]
+    return tuple(pose[: size - 1, : size - 1] @ np.asarray(point) + pose[: size - 1, size - 1])
+
+
+def _transform_axis(space, pose, axis, planar_translation=True):
+    if axis is None:
+        return None
+    if space == "planar":
+        return tuple(pose[:2, :2] @ np.asarray(axis))
+    return tuple(pose[:3, :3] @ np.asarray(axis))
+
+
+def _moved(mechanism, first_pose, second_pose, name_suffix=""):
+    """A copy of the mechanism with each joint's geometry moved by its links' poses."""
+    space = mechanism.space
+    joints = []
+    for joint in mechanism.joints:
+        first, second = first_pose(joint.links[0]), second_pose(joint.links[1])
+        axes = None
+        if joint.axes is not None:
+            axes = (_transform_axis(space, first, joint.axes[0]), _transform_axis(space, second, joint.axes[1]))
+        joints.append(dataclasses.replace(
+            joint, point=_transform_point(space, first, joint.point),
+            axis=_transform_axis(space, first, joint.axis), axes=axes))
+    end_effector = mechanism.end_effector
+    if end_effector is not None and end_effector.point is not None:
+        end_effector = dataclasses.replace(
+            end_effector, point=_transform_point(space, first_pose(end_effector.link), end_effector.point))
+    return Mechanism(mechanism.name + name_suffix, space, joints, mechanism.ground, end_effector)
+
+
+def rehome(mechanism, point):
+    """The same mechanism described with the configuration `point` as its home.
+
+    Every joint's geometry is fixed in its first link (a U joint's second
+    axis in its second link) and is carried there by the link poses at
+    `point`. The returned mechanism's home is the physical configuration
+    `point` of the given one, but its end-effector frame keeps the link's
+    orientation at `point` as its reference.
+
+    Parameters
+    ----------
+    mechanism : Mechanism
+    point : array_like, shape=[point_size]
+        A closed configuration.
+
+    Returns
+    -------
+    Mechanism
+    """
+    kinematics_of(mechanism)
+    poses = {link: link_pose(mechanism, link, point) for link in mechanism.links}
+    return _moved(mechanism, poses.__getitem__, poses.__getitem__)
+
+
+def move_base(mechanism, pose):
+    """The same mechanism with all home geometry moved by the rigid motion `pose`.
+
+    Parameters
+    ----------
+    mechanism : Mechanism
+    pose : array_like, shape=[n, n]
+        A homogeneous matrix of the mechanism's group (SE(2), SO(3) or SE(3)).
+    """
+    pose = np.asarray(pose, dtype=float)
+    return _moved(mechanism, lambda link: pose, lambda link: pose)
+
+
+def flip_axis(mechanism, name):
+    """The same mechanism with the axis of joint `name` reversed (planar R: links swapped).
+
+    The joint value changes sign; every other coordinate is unchanged.
+    """
+    joints = []
+    for joint in mechanism.joints:
+        if joint.name == name:
+            if joint.axis is not None:
+                joint = dataclasses.replace(joint, axis=tuple(-value for value in joint.axis))
+            elif joint.type == "R":
+                joint = dataclasses.replace(joint, links=tuple(reversed(joint.links)))
+            else:
+                raise ValueError(f"joint {name!r}: only joints with one axis (R, P, C) can be flipped")
+        joints.append(joint)
+    return Mechanism(mechanism.name, mechanism.space, joints, mechanism.ground, mechanism.end_effector)
