@@ -1,0 +1,185 @@
+"""Mechanisms built for the tests, each with the paper and figure it comes from.
+
+(The user-facing catalogue is a later issue; these builders are the minimum
+the core tests need and are written from the papers' geometry.)
+"""
+
+import numpy as np
+from scipy.optimize import least_squares
+
+from classify import Model
+from manifold import AmbientSpace, ImplicitManifold
+from mechanisms import EndEffector, Joint, Mechanism
+
+
+# --------------------------------------------------------------------------- slider-crank
+
+def slider_crank(crank, coupler, theta, branch=1, actuated="crank", end_effector=True):
+    """Park & Kim Fig. 3 / Gosselin & Angeles eqs. (6)-(17), assembled at crank angle θ.
+
+    branch +1 / −1: x = R cos θ ± √(l² − R² sin² θ) (G-A eq. 9); 0: the constant branch x = 0 of
+    the equal-link design (G-A eq. 17).
+    """
+    pin = crank * np.array([np.cos(theta), np.sin(theta)])
+    if branch == 0:
+        slider = np.zeros(2)
+    else:
+        slider = np.array([pin[0] + branch * np.sqrt(max(coupler ** 2 - pin[1] ** 2, 0.0)), 0.0])
+    return Mechanism("slider-crank", "planar", [
+        Joint("crank", "R", ("ground", "crank"), point=(0.0, 0.0), actuated=actuated == "crank"),
+        Joint("pin", "R", ("crank", "coupler"), point=tuple(pin)),
+        Joint("wrist", "R", ("coupler", "slider"), point=tuple(slider)),
+        Joint("slide", "P", ("ground", "slider"), axis=(1.0, 0.0), actuated=actuated == "slider"),
+    ], end_effector=EndEffector("slider", tuple(slider), "position") if end_effector else None)
+
+
+# --------------------------------------------------------------------------- five-bar
+
+def five_bar(points, actuated=("J1", "J5"), end_effector="distal1"):
+    """Planar 5R (Park & Kim eq. 8) with joints J1..J5 at the given points, J1 and J5 on the ground.
+
+    The end-effector is the middle joint J3 carried by `end_effector` (Park & Kim Figs. 6, 13).
+    """
+    points = [tuple(float(v) for v in p) for p in points]
+    links = ["ground", "proximal1", "distal1", "distal2", "proximal2", "ground"]
+    joints = [Joint(f"J{i + 1}", "R", (links[i], links[i + 1]), point=points[i],
+                    actuated=f"J{i + 1}" in actuated) for i in range(5)]
+    return Mechanism("five-bar", "planar", joints,
+                     end_effector=EndEffector(end_effector, points[2], "position"))
+
+
+def five_bar_positions(theta1, theta5, base=2.0, proximal=1.0, distal=1.0, elbow=1):
+    """Joint positions for crank angles θ1 (at J1 = 0) and θ5 (at J5 = (base, 0))."""
+    j1, j5 = np.zeros(2), np.array([base, 0.0])
+    j2 = j1 + proximal * np.array([np.cos(theta1), np.sin(theta1)])
+    j4 = j5 + proximal * np.array([np.cos(theta5), np.sin(theta5)])
+    chord = j4 - j2
+    half = np.linalg.norm(chord) / 2
+    normal = np.array([-chord[1], chord[0]]) / (2 * half)
+    j3 = (j2 + j4) / 2 + elbow * np.sqrt(distal ** 2 - half ** 2) * normal
+    return [j1, j2, j3, j4, j5]
+
+
+def _wrap(angle):
+    return (angle + np.pi) % (2 * np.pi) - np.pi
+
+
+def five_bar_eq8(points, actuated=(0, 4)):
+    """The five-bar written directly as Park & Kim eq. (8): an implicit manifold in T⁵.
+
+    x_i are the relative angles between consecutive links (link i from joint i to joint i+1,
+    link 5 the ground), Φ(x) = (Σ Lᵢ cos(x₁+…+xᵢ), Σ Lᵢ sin(x₁+…+xᵢ), x₁+…+x₅ − s₀), where the
+    constant s₀ (π in the paper) depends on the zero of the angles. E = diag(1, 0, 0, 0, 1).
+    The end-effector is joint 3: f(x) = L₁(c₁, s₁) + L₂(c₁₂, s₁₂).
+
+    Returns
+    -------
+    model : Model
+    point : ndarray, shape=[5]
+        The x of the given joint positions.
+    """
+    points = [np.asarray(p, dtype=float) for p in points]
+    links = [points[(i + 1) % 5] - points[i] for i in range(5)]
+    lengths = np.array([np.linalg.norm(link) for link in links])
+    directions = np.array([np.arctan2(link[1], link[0]) for link in links])
+    x = np.array([_wrap(directions[0] - directions[4])]
+                 + [_wrap(directions[i] - directions[i - 1]) for i in range(1, 5)])
+    offset = float(np.sum(x))
+    ambient = AmbientSpace(("S1",) * 5)
+    lower = np.tril(np.ones((5, 5)))  # cumulative sums: S = lower @ x
+
+    def constraint(point):
+        sums = point @ lower.T
+        return np.stack([np.sum(lengths * np.cos(sums), axis=-1), np.sum(lengths * np.sin(sums), axis=-1),
+                         np.sum(point, axis=-1) - offset], axis=-1)
+
+    def jacobian(point):
+        sums = point @ lower.T
+        first = -(lengths * np.sin(sums)) @ lower
+        second = (lengths * np.cos(sums)) @ lower
+        return np.stack([first, second, np.ones_like(first)], axis=-2)
+
+    def hessian(point):
+        sums = point @ lower.T
+        cos_part = np.einsum("i,ia,ib->ab", -lengths * np.cos(sums), lower, lower)
+        sin_part = np.einsum("i,ia,ib->ab", -lengths * np.sin(sums), lower, lower)
+        return np.stack([cos_part, sin_part, np.zeros((5, 5))])
+
+    def end_effector_jacobian(point):
+        sums = point @ lower.T
+        partial = lower[:2]
+        return np.stack([-(lengths[:2] * np.sin(sums[:2])) @ partial,
+                         (lengths[:2] * np.cos(sums[:2])) @ partial])
+
+    selection = np.zeros((len(actuated), 5))
+    for row, index in enumerate(actuated):
+        selection[row, index] = 1.0
+    manifold = ImplicitManifold(ambient, constraint, jacobian, hessian)
+    model = Model("five-bar (eq. 8)", manifold, selection, tuple(f"x{i + 1}" for i in range(5)),
+                  x[None], end_effector_jacobian, np.eye(2))
+    return model, x
+
+
+# --------------------------------------------------------------------------- spatial
+
+def _dh(theta, a, alpha):
+    c, s, ca, sa = np.cos(theta), np.sin(theta), np.cos(alpha), np.sin(alpha)
+    return np.array([[c, -s * ca, s * sa, a * c], [s, c * ca, -c * sa, a * s], [0, sa, ca, 0],
+                     [0, 0, 0, 1.0]])
+
+
+def bennett(a=1.0, alpha=np.pi / 6, beta=np.pi / 4, theta1=0.7, actuated=True):
+    """A Bennett linkage from its DH parameters: a₁₂ = a₃₄ = a, a₂₃ = a₄₁ = b = a sin β / sin α,
+    twists α, β, α, β, offsets 0; assembled by solving the loop for θ₂, θ₃, θ₄ at θ₁."""
+    b = a * np.sin(beta) / np.sin(alpha)
+    lengths, twists = [a, b, a, b], [alpha, beta, alpha, beta]
+
+    def chain(thetas):
+        frames = [np.eye(4)]
+        for theta, length, twist in zip(thetas, lengths, twists):
+            frames.append(frames[-1] @ _dh(theta, length, twist))
+        return frames
+
+    def residual(rest):
+        closure = chain([theta1, *rest])[-1]
+        return np.concatenate([(closure[:3, :3] - np.eye(3)).ravel(), closure[:3, 3]])
+
+    guess_2 = 2 * np.arctan(np.sin((beta + alpha) / 2) / np.sin((beta - alpha) / 2) / np.tan(theta1 / 2))
+    solution = least_squares(residual, [guess_2, -theta1, -guess_2], xtol=1e-15, ftol=1e-15, gtol=1e-15)
+    assert np.max(np.abs(residual(solution.x))) < 1e-12, "Bennett loop did not close"
+    frames = chain([theta1, *solution.x])
+    links = ["ground", "link1", "link2", "link3", "ground"]
+    joints = [Joint(f"R{i + 1}", "R", (links[i], links[i + 1]), point=tuple(frames[i][:3, 3]),
+                    axis=tuple(frames[i][:3, 2]), actuated=actuated and i == 0) for i in range(4)]
+    return Mechanism("bennett", "spatial", joints, end_effector=EndEffector("link2", tuple(frames[2][:3, 3]), "pose"))
+
+
+def rsur(output="pose"):
+    """A spatial RSUR four-bar (generic geometry, assembled at home by construction), crank driven."""
+    return Mechanism("RSUR", "spatial", [
+        Joint("A", "R", ("ground", "crank"), point=(0.0, 0.0, 0.0), axis=(0.0, 0.0, 1.0), actuated=True),
+        Joint("B", "S", ("crank", "coupler"), point=(1.0, 0.1, 0.3)),
+        Joint("C", "U", ("coupler", "rocker"), point=(1.6, 1.3, 0.7), axes=((0.2, 1.0, 0.1), (1.0, -0.1, 0.3))),
+        Joint("D", "R", ("rocker", "ground"), point=(0.4, 1.5, 0.1), axis=(1.0, 0.2, 0.1)),
+    ], end_effector=EndEffector("coupler", (1.2, 0.8, 0.6), output))
+
+
+def spherical_four_bar():
+    """Spherical 4R linkage (axes through the origin), end-effector orientation of the coupler."""
+    axes = [(0.0, 0.0, 1.0), (0.8, 0.1, 0.6), (0.3, 0.9, 0.4), (-0.2, 0.5, 0.9)]
+    links = ["ground", "crank", "coupler", "rocker", "ground"]
+    return Mechanism("spherical four-bar", "spherical", [
+        Joint(f"R{i + 1}", "R", (links[i], links[i + 1]), axis=axes[i], actuated=i == 0) for i in range(4)
+    ], end_effector=EndEffector("coupler", None, "orientation"))
+
+
+def spatial_mix(output="pose"):
+    """A two-loop spatial mechanism with R, P, S, U and C joints (for derivative tests)."""
+    return Mechanism("mix", "spatial", [
+        Joint("A", "R", ("ground", "a"), point=(0, 0, 0), axis=(0, 0, 1), actuated=True),
+        Joint("B", "S", ("b", "a"), point=(1, 0, 0)),
+        Joint("C", "U", ("b", "c"), point=(1, 1, 0), axes=((1, 0, 0), (0, 1, 0))),
+        Joint("D", "C", ("c", "ground"), point=(0, 1, 1), axis=(0, 1, 1)),
+        Joint("E", "P", ("ground", "e"), axis=(1, 1, 0), actuated=True),
+        Joint("F", "S", ("e", "c"), point=(2, 1, 0)),
+    ], end_effector=EndEffector("b", None if output == "orientation" else (0.5, 0.5, 0.5), output))

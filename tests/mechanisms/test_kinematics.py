@@ -1,0 +1,159 @@
+"""Analytic derivatives of the loop constraints and the end-effector map.
+
+Taylor (slope) tests: for a random direction v and steps t,
+|Φ(p ⊕ tv) − Φ(p) − t DΦ v| = O(t²) and with ½t² D²Φ(v, v) added, O(t³);
+likewise for f in the chart of N at f(p). Points are random configurations of
+K (off M as well as on it), including ball joints at the gimbal-lock attitudes
+of three-angle parametrisations.
+"""
+
+import numpy as np
+import pytest
+
+from builders import bennett, five_bar, five_bar_positions, rsur, slider_crank, spatial_mix, spherical_four_bar
+from manifold import numerical_rank, project, rotation_exp, tangent_basis
+from mechanisms import (
+    configuration_space, constraint, constraint_hessian, constraint_jacobian, end_effector,
+    end_effector_chart, end_effector_hessian, end_effector_jacobian, home, kinematics_of,
+)
+
+MECHANISMS = {
+    "slider-crank": lambda: slider_crank(2.0, 1.0, 0.3),
+    "five-bar": lambda: five_bar(five_bar_positions(1.2, 2.0)),
+    "spherical four-bar": spherical_four_bar,
+    "bennett": bennett,
+    "RSUR pose": rsur,
+    "RSUR position": lambda: rsur("position"),
+    "mix pose": spatial_mix,
+    "mix orientation": lambda: spatial_mix("orientation"),
+    "mix position": lambda: spatial_mix("position"),
+}
+
+
+def slopes(function, jacobian, hessian, point, space, rng, chart=None):
+    """Observed orders of the first- and second-order Taylor remainders."""
+    direction = rng.standard_normal(space.dim)
+    value, first, second = function(point), jacobian(point), hessian(point)
+    steps = np.array([1e-2, 5e-3, 2.5e-3])
+    errors = []
+    for step in steps:
+        moved = function(space.retract(point, step * direction))
+        change = moved - value if chart is None else chart(value, moved)
+        linear = step * first @ direction
+        quadratic = 0.5 * step ** 2 * np.einsum("cab,a,b->c", second, direction, direction)
+        errors.append((np.linalg.norm(change - linear), np.linalg.norm(change - linear - quadratic)))
+    errors = np.array(errors)
+    scale = max(np.linalg.norm(first @ direction), 1.0)
+    orders = [np.polyfit(np.log(steps), np.log(errors[:, i]), 1)[0] if errors[-1, i] > 1e-13 * scale else np.inf
+              for i in range(2)]
+    return orders
+
+
+def random_points(mechanism, rng, count=3):
+    space = kinematics_of(mechanism).ambient
+    points = list(space.random_point(rng, size=count))
+    for joint_index, joint in enumerate(mechanism.joints):  # ball joints at gimbal attitudes
+        if joint.type == "S":
+            point = space.random_point(rng)
+            for attitude in ([0, np.pi / 2, 0], [0, 0, 1e-9], [np.pi - 1e-6, 0, 0]):
+                part = space.point_slices[[i for i, j in enumerate(_factor_owners(mechanism)) if j == joint_index][0]]
+                point = point.copy()
+                point[part] = rotation_exp(np.array(attitude, dtype=float)).ravel()
+                points.append(point)
+    return points
+
+
+def _factor_owners(mechanism):
+    from mechanisms.joints import joint_factors
+    return [index for index, joint in enumerate(mechanism.joints) for _ in joint_factors(joint)]
+
+
+@pytest.mark.parametrize("name", sorted(MECHANISMS))
+def test_constraint_derivatives_pass_the_taylor_test(name):
+    rng = np.random.default_rng(10)
+    mechanism = MECHANISMS[name]()
+    space = kinematics_of(mechanism).ambient
+    for point in random_points(mechanism, rng):
+        first, second = slopes(lambda p: constraint(mechanism, p), lambda p: constraint_jacobian(mechanism, p),
+                               lambda p: constraint_hessian(mechanism, p), point, space, rng)
+        assert first > 1.9 and second > 2.9, (first, second)
+
+
+@pytest.mark.parametrize("name", sorted(MECHANISMS))
+def test_end_effector_derivatives_pass_the_taylor_test(name):
+    rng = np.random.default_rng(11)
+    mechanism = MECHANISMS[name]()
+    space = kinematics_of(mechanism).ambient
+    for point in random_points(mechanism, rng):
+        first, second = slopes(
+            lambda p: end_effector(mechanism, p), lambda p: end_effector_jacobian(mechanism, p),
+            lambda p: end_effector_hessian(mechanism, p), point, space, rng,
+            chart=lambda a, b: end_effector_chart(mechanism, a, b))
+        assert first > 1.9 and second > 2.9, (first, second)
+
+
+@pytest.mark.parametrize("name", sorted(MECHANISMS))
+def test_batched_calls_equal_repeated_single_calls(name):
+    rng = np.random.default_rng(12)
+    mechanism = MECHANISMS[name]()
+    space = kinematics_of(mechanism).ambient
+    points = space.random_point(rng, size=6).reshape(2, 3, -1)
+    for function in (constraint, constraint_jacobian, constraint_hessian,
+                     end_effector, end_effector_jacobian, end_effector_hessian):
+        batched = function(mechanism, points)
+        for i in range(2):
+            for j in range(3):
+                np.testing.assert_allclose(batched[i, j], function(mechanism, points[i, j]), atol=1e-13)
+
+
+def test_jacobian_columns_are_the_joint_twists_at_home():
+    """At a closed configuration the columns of DΦ are the joint screws (Park & Kim eq. 8):
+    planar revolute at (x, y): rotation row 1, translation rows (y, −x)/L."""
+    points = five_bar_positions(1.2, 2.0)
+    mechanism = five_bar(points)
+    length = mechanism.characteristic_length
+    expected = np.array([[1.0, y / length, -x / length] for x, y in points]).T
+    jacobian = constraint_jacobian(mechanism, home(mechanism))
+    # J5 is traversed from proximal2 to the ground in the loop only if it is the chord; compare up to sign
+    for column in range(5):
+        assert min(np.linalg.norm(jacobian[:, column] - expected[:, column]),
+                   np.linalg.norm(jacobian[:, column] + expected[:, column])) < 1e-12
+
+
+@pytest.mark.parametrize("name", ["bennett", "RSUR pose", "mix pose", "spherical four-bar"])
+def test_second_derivative_on_tangent_vectors_is_the_lie_bracket_form(name):
+    """On M, for a tangent vector v, D²Φ(v, v) = Σ_{a before b} [Z_a v_a, Z_b v_b]: the bracket
+    form of the twists carried to the configuration (twice the second-order term of the
+    Baker-Campbell-Hausdorff expansion of log of the loop product)."""
+    from mechanisms import _groups as groups
+    from mechanisms.kinematics import _expand
+
+    rng = np.random.default_rng(13)
+    mechanism = MECHANISMS[name]()
+    compiled = kinematics_of(mechanism)
+    manifold = configuration_space(mechanism)
+    start = compiled.ambient.retract(home(mechanism), 0.05 * rng.standard_normal(compiled.ambient.dim))
+    point = project(manifold, start)
+    basis, _ = tangent_basis(manifold, point)
+    vector = basis @ rng.standard_normal(basis.shape[1])
+    rows = groups.LOOP_ROWS[compiled.space]
+    rotation_rows = groups.ROTATION_ROWS[compiled.space]
+    hessian = constraint_hessian(mechanism, point)
+    for loop, chain in enumerate(compiled.loops):
+        product, coordinates, first, _ = _expand(compiled.space, chain, point, 1)
+        carried = [first[c] @ np.linalg.inv(product) * vector[index]
+                   for c, (index, _, _, _) in enumerate(coordinates)]
+        bracket = sum(carried[i] @ carried[j] - carried[j] @ carried[i]
+                      for i in range(len(carried)) for j in range(i + 1, len(carried))
+                      if coordinates[i][3] != coordinates[j][3])
+        expected = groups.vee(compiled.space, bracket)
+        expected[rotation_rows:] /= compiled.length
+        observed = np.einsum("cab,a,b->c", hessian[loop * rows:(loop + 1) * rows], vector, vector)
+        np.testing.assert_allclose(observed, expected, atol=1e-9)
+
+
+def test_bennett_is_overconstrained_but_mobile():
+    mechanism = bennett()
+    jacobian = constraint_jacobian(mechanism, home(mechanism))
+    assert jacobian.shape == (6, 4)
+    assert numerical_rank(jacobian).rank == 3
