@@ -140,17 +140,24 @@ class Mechanism:
     def characteristic_length(self):
         """A length that makes the constraint rows dimensionless.
 
-        The largest distance of a joint point (or the end-effector point) from
-        their centroid; 1 when the mechanism has fewer than two distinct points
-        (e.g. spherical mechanisms, whose rows carry no length).
+        The largest distance between two points carried by one link (the
+        points of the joints on it and the end-effector point): a rigid-body
+        invariant, so it does not change with the home configuration, the base
+        frame or axis signs. 1 when no link carries two distinct points (e.g.
+        spherical mechanisms, whose rows carry no length).
         """
-        points = [joint.point for joint in self.joints if joint.point is not None]
+        carried = {link: [] for link in self.graph}
+        for joint in self.joints:
+            if joint.point is not None:
+                for link in joint.links:
+                    carried[link].append(joint.point)
         if self.end_effector is not None and self.end_effector.point is not None:
-            points.append(self.end_effector.point)
-        if len(points) < 2:
-            return 1.0
-        points = np.asarray(points)
-        spread = float(np.max(np.linalg.norm(points - points.mean(axis=0), axis=1)))
+            carried[self.end_effector.link].append(self.end_effector.point)
+        spread = 0.0
+        for points in carried.values():
+            if len(points) > 1:
+                points = np.asarray(points)
+                spread = max(spread, float(np.max(np.linalg.norm(points[:, None] - points[None], axis=-1))))
         return spread if spread > 1e-12 else 1.0
 
     def joint(self, name):

@@ -1,0 +1,163 @@
+"""Invariance of the classification and of the manipulability proper values under changes of
+description (DESIGN.md, "Metrics"): joint zeros (another home), axis signs, base frame, tangent
+basis; the SE(3) length scale changes the values only. Property tests with a seeded rng."""
+
+import numpy as np
+import pytest
+from scipy.spatial.transform import Rotation
+
+from builders import bennett, five_bar, five_bar_positions, rsur, slider_crank, spherical_four_bar
+from classify import classify, manipulability
+from manifold import ProjectionError, project, tangent_basis
+from mechanisms import (
+    closes, configuration_space, end_effector_jacobian, flip_axis, home, kinematics_of, move_base, rehome,
+)
+from mechanisms.joints import joint_factors
+
+FIG6A = [(0.0, 0.0), (0.0, 1.0), (1.0, 1.0), (2.0, 1.0), (2.0, 0.0)]
+MECHANISMS = {
+    "five-bar": lambda: five_bar(five_bar_positions(1.2, 2.0)),
+    "five-bar fig6a": lambda: five_bar(FIG6A),
+    "slider-crank fig3b": lambda: slider_crank(2.0, 1.0, np.arcsin(0.5)),
+    "slider-crank dead centre": lambda: slider_crank(2.0, 1.0, 0.0),
+    "bennett pose": bennett,
+    "RSUR pose": rsur,
+    "spherical four-bar": spherical_four_bar,
+}
+
+
+def nearby_configuration(mechanism, rng, size=0.3):
+    """A point of M near home: a random step projected back (retried if Gauss-Newton fails)."""
+    manifold = configuration_space(mechanism)
+    space = kinematics_of(mechanism).ambient
+    for _ in range(20):
+        try:
+            return project(manifold, space.retract(home(mechanism), size * rng.standard_normal(space.dim)))
+        except ProjectionError:
+            continue
+    raise AssertionError("no configuration found near home")
+
+
+def assert_same(first, second, values=True):
+    assert first.kinds == second.kinds
+    assert first.degeneracy == second.degeneracy
+    assert first.dof == second.dof
+    for kind in ("cspace", "actuator", "end_effector"):
+        a, b = getattr(first, kind), getattr(second, kind)
+        assert (a is None) == (b is None)
+        if a is not None:
+            assert (a.rank, a.expected_rank) == (b.rank, b.expected_rank), kind
+    assert (first.manipulability is None) == (second.manipulability is None)
+    if values and first.manipulability is not None:
+        np.testing.assert_allclose(first.manipulability.eigenvalues, second.manipulability.eigenvalues,
+                                   rtol=1e-7, atol=1e-12)
+
+
+def joint_parts(mechanism, name):
+    """Slices of the point that hold joint `name`'s coordinates."""
+    space = kinematics_of(mechanism).ambient
+    owners = [joint.name for joint in mechanism.joints for _ in joint_factors(joint)]
+    return [space.point_slices[i] for i, owner in enumerate(owners) if owner == name]
+
+
+@pytest.mark.parametrize("name", sorted(MECHANISMS))
+def test_another_home_gives_the_same_classification(name):
+    rng = np.random.default_rng(20)
+    mechanism = MECHANISMS[name]()
+    for point in [home(mechanism), nearby_configuration(mechanism, rng), nearby_configuration(mechanism, rng)]:
+        moved = rehome(mechanism, point)
+        assert_same(classify(mechanism, point, rng=np.random.default_rng(1)),
+                    classify(moved, home(moved), rng=np.random.default_rng(1)))
+
+
+@pytest.mark.parametrize("name", ["five-bar fig6a", "slider-crank fig3b", "slider-crank dead centre"])
+def test_singular_configuration_reached_from_a_regular_home(name):
+    """The singular home described as a displacement from a regular home: same kinds."""
+    rng = np.random.default_rng(21)
+    mechanism = MECHANISMS[name]()
+    regular = nearby_configuration(mechanism, rng, size=0.2)
+    moved = rehome(mechanism, regular)
+    singular = -regular  # planar R and P coordinates: values relative to the new zeros
+    assert closes(moved, singular)
+    assert_same(classify(mechanism, home(mechanism), rng=np.random.default_rng(1)),
+                classify(moved, singular, rng=np.random.default_rng(1)))
+
+
+@pytest.mark.parametrize("name", sorted(MECHANISMS))
+def test_flipping_axis_signs_gives_the_same_classification(name):
+    rng = np.random.default_rng(22)
+    mechanism = MECHANISMS[name]()
+    point = nearby_configuration(mechanism, rng)
+    for joint in mechanism.joints:
+        if joint.type == "S" or joint.type == "U":
+            continue
+        flipped = flip_axis(mechanism, joint.name)
+        mirrored = point.copy()
+        for part in joint_parts(mechanism, joint.name):
+            mirrored[part] *= -1.0
+        assert closes(flipped, mirrored)
+        assert_same(classify(mechanism, point, rng=np.random.default_rng(1)),
+                    classify(flipped, mirrored, rng=np.random.default_rng(1)))
+
+
+def random_motion(space, rng):
+    if space == "planar":
+        angle = rng.uniform(-np.pi, np.pi)
+        return np.array([[np.cos(angle), -np.sin(angle), rng.normal()], [np.sin(angle), np.cos(angle), rng.normal()],
+                         [0, 0, 1.0]])
+    rotation = Rotation.random(random_state=rng).as_matrix()
+    if space == "spherical":
+        return rotation
+    motion = np.eye(4)
+    motion[:3, :3], motion[:3, 3] = rotation, rng.normal(size=3)
+    return motion
+
+
+@pytest.mark.parametrize("name", sorted(MECHANISMS))
+def test_moving_the_base_frame_gives_the_same_classification(name):
+    rng = np.random.default_rng(23)
+    mechanism = MECHANISMS[name]()
+    point = nearby_configuration(mechanism, rng)
+    for _ in range(2):
+        motion = random_motion(mechanism.space, rng)
+        moved = move_base(mechanism, motion)
+        # an S joint's value is a rotation written in ground-frame components: it is conjugated
+        same = point.copy()
+        for joint in mechanism.joints:
+            if joint.type == "S":
+                for part in joint_parts(mechanism, joint.name):
+                    rotation = motion[:3, :3]
+                    same[part] = (rotation @ point[part].reshape(3, 3) @ rotation.T).ravel()
+        assert closes(moved, same)
+        assert_same(classify(mechanism, point, rng=np.random.default_rng(1)),
+                    classify(moved, same, rng=np.random.default_rng(1)))
+
+
+@pytest.mark.parametrize("name", ["five-bar", "bennett pose", "RSUR pose", "spherical four-bar"])
+def test_proper_values_do_not_depend_on_the_tangent_basis(name):
+    """det(λG − JᵀHJ) = 0 is unchanged by T → T P for any invertible P."""
+    rng = np.random.default_rng(24)
+    mechanism = MECHANISMS[name]()
+    point = nearby_configuration(mechanism, rng)
+    basis, _ = tangent_basis(configuration_space(mechanism), point)
+    from classify import end_effector_metric, weighted_actuator_jacobian
+    actuators = weighted_actuator_jacobian(mechanism)
+    jacobian = end_effector_jacobian(mechanism, point)
+    metric = end_effector_metric(mechanism)
+    count = min(metric.shape[0], basis.shape[1])
+    reference = manipulability(actuators @ basis, jacobian @ basis, metric, count)
+    for _ in range(3):
+        change = rng.standard_normal((basis.shape[1], basis.shape[1])) + 2 * np.eye(basis.shape[1])
+        other = manipulability(actuators @ basis @ change, jacobian @ basis @ change, metric, count)
+        np.testing.assert_allclose(other.eigenvalues, reference.eigenvalues, rtol=1e-9)
+
+
+@pytest.mark.parametrize("name", ["bennett pose", "RSUR pose"])
+def test_length_scale_changes_the_values_but_not_the_kinds(name):
+    rng = np.random.default_rng(25)
+    mechanism = MECHANISMS[name]()
+    point = nearby_configuration(mechanism, rng)
+    small = classify(mechanism, point, rng=np.random.default_rng(1), length_scale=0.5)
+    large = classify(mechanism, point, rng=np.random.default_rng(1), length_scale=5.0)
+    assert_same(small, large, values=False)
+    assert not np.allclose(small.manipulability.eigenvalues, large.manipulability.eigenvalues)
