@@ -1,0 +1,117 @@
+"""The ``closedchain`` command: contract JSON, exit codes, one-line errors."""
+
+import json
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+import yaml
+
+from classify.cli import main
+
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
+CONTRACT_KEYS = {"mechanism", "dof", "singular", "kinds", "cspace", "actuator", "end_effector", "manipulability"}
+
+
+def run(arguments, capsys):
+    status = main(arguments)
+    captured = capsys.readouterr()
+    return status, captured.out, captured.err
+
+
+def configuration(file, name):
+    return yaml.safe_load((EXAMPLES / file).read_text())["configurations"][name]
+
+
+def test_classify_json_follows_the_contract(capsys):
+    at = json.dumps(configuration("five_bar.yaml", "fig6a_distal_aligned"))
+    status, out, err = run(["classify", str(EXAMPLES / "five_bar.yaml"), "--at", at, "--format", "json"], capsys)
+    assert status == 0, err
+    result = json.loads(out)
+    assert CONTRACT_KEYS <= set(result)
+    assert result["mechanism"] == "park-kim five-bar" and result["dof"] == 2
+    assert result["singular"] is True and result["kinds"] == ["actuator"]
+    cspace = result["cspace"]
+    assert (cspace["singular"], cspace["rank"], cspace["expected_rank"]) == (False, 3, 3)
+    actuator = result["actuator"]
+    assert (actuator["singular"], actuator["rank"], actuator["expected_rank"], actuator["degeneracy"]) == \
+        (True, 1, 2, "nondegenerate")
+    assert result["end_effector"]["singular"] is False
+    assert result["manipulability"] is None
+
+
+def test_classify_home_json_has_manipulability(capsys):
+    status, out, _ = run(["classify", str(EXAMPLES / "five_bar.yaml"), "--format", "json"], capsys)
+    result = json.loads(out)
+    assert status == 0 and result["kinds"] == [] and result["actuator"]["degeneracy"] is None
+    assert set(result["manipulability"]) >= {"eigenvalues", "condition_number", "volume"}
+    assert len(result["manipulability"]["eigenvalues"]) == 2
+
+
+def test_at_from_a_file_and_text_output(tmp_path, capsys):
+    at = tmp_path / "at.json"
+    at.write_text(json.dumps(configuration("slider_crank_slider_driven.yaml", "constant_branch")))
+    status, out, _ = run(["classify", str(EXAMPLES / "slider_crank_slider_driven.yaml"), "--at", f"@{at}"], capsys)
+    assert status == 0
+    assert "degenerate" in out and "self-motion" in out and "σ" in out
+
+
+def test_configuration_that_does_not_close_needs_project(capsys):
+    file = str(EXAMPLES / "five_bar.yaml")
+    status, out, err = run(["classify", file, "--at", '{"J1": 0.1}'], capsys)
+    assert status == 2 and out == "" and err.count("\n") == 1 and "--project" in err
+    status, out, err = run(["classify", file, "--at", '{"J1": 0.1}', "--project", "--format", "json"], capsys)
+    assert status == 0
+    assert json.loads(out)["projection_distance"] > 0
+
+
+@pytest.mark.parametrize("arguments, fragment", [
+    (["classify", "missing.yaml"], "missing.yaml"),
+    (["classify", "{five}", "--at", "{not json"], "--at"),
+    (["classify", "{five}", "--at", "[1, 2]"], "--at"),
+    (["classify", "{five}", "--at", '{"J9": 0.1}'], "J9"),
+    (["classify", "{five}", "--at", '{"J1": "0.1"}'], "J1"),
+    (["classify", "{five}", "--at", "@/nonexistent/at.json"], "--at"),
+    (["classify", "{five}", "--format", "xml"], "--format"),
+    (["classify", "{five}", "--length-scale", "-1"], "--length-scale"),
+    (["frobnicate"], "frobnicate"),
+    (["report", "/nonexistent/folder"], "/nonexistent/folder"),
+])
+def test_bad_command_lines_exit_2_with_one_line(arguments, fragment, capsys):
+    arguments = [a.replace("{five}", str(EXAMPLES / "five_bar.yaml")) for a in arguments]
+    status, out, err = run(arguments, capsys)
+    assert status == 2
+    assert err.count("\n") == 1 and err.startswith("closedchain: error:") and fragment in err
+    assert "Traceback" not in err
+
+
+def test_every_malformed_file_exits_2_with_one_line(malformed_case, tmp_path, capsys):
+    case_id, text, suffix, fragment = malformed_case
+    path = tmp_path / f"mechanism{suffix}"
+    path.write_text(text)
+    status, out, err = run(["classify", str(path)], capsys)
+    assert status == 2, err
+    assert err.count("\n") == 1 and err.startswith("closedchain: error:")
+    assert fragment in err and "Traceback" not in err
+
+
+def test_installed_command_runs_as_a_process(tmp_path):
+    """The console script is wired: a subprocess gets exit 2 and no traceback on bad input."""
+    bad = tmp_path / "bad.yaml"
+    bad.write_text("name: x\nspace: conformal\njoints: []\n")
+    process = subprocess.run([sys.executable, "-m", "classify", "classify", str(bad)],
+                             capture_output=True, text=True)
+    assert process.returncode == 2 and "Traceback" not in process.stderr
+    assert len(process.stderr.strip().splitlines()) == 1
+
+
+def test_report_classifies_every_example(tmp_path, capsys):
+    output = tmp_path / "report.txt"
+    status, out, _ = run(["report", str(EXAMPLES), "--output", str(output)], capsys)
+    assert status == 0
+    text = output.read_text()
+    for row in ("fig1a_collinear", "fig6a_distal_aligned", "fig6b_elbows_coincide", "fig3a_self_intersection",
+                "fig3b_actuator", "fig3c_dead_centre", "fig3d_dead_centre", "constant_branch"):
+        assert row in text
+    assert "nondegenerate" in text and "degenerate" in text
