@@ -13,7 +13,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from manifold import DEFAULT_RTOL, numerical_rank, sample_manifold, tangent_basis
+from manifold import DEFAULT_RTOL, largest_rank, numerical_rank, sample_manifold, tangent_basis
 
 __all__ = ["Survey", "survey"]
 
@@ -63,17 +63,15 @@ def survey(model, rng, starts=None, random_count=24, walk_count=24, rtol=DEFAULT
     manifold = model.manifold
     starts = model.starts if starts is None else np.atleast_2d(starts)
     points = sample_manifold(manifold, rng, starts, random_count=random_count, walk_count=walk_count)
+    bases = [tangent_basis(manifold, point, rtol=rtol)[0] for point in points]
     actuators = model.actuators
     actuator_scale = float(np.linalg.norm(actuators, 2)) if actuators.size else 0.0
-    has_end_effector = model.end_effector_dimension > 0
-    constraint_rank = actuator_rank = 0
-    end_effector_rank = 0 if has_end_effector else None
-    for point in points:
-        basis, decision = tangent_basis(manifold, point, rtol=rtol)
-        constraint_rank = max(constraint_rank, decision.rank)
-        actuator_rank = max(actuator_rank, numerical_rank(actuators @ basis, rtol=rtol, scale=actuator_scale).rank)
-        if has_end_effector:
-            full = model.end_effector_jacobian(point)
-            rank = numerical_rank(full @ basis, rtol=rtol, scale=np.linalg.norm(full, 2)).rank
-            end_effector_rank = max(end_effector_rank, rank)
+    constraint_rank = largest_rank(manifold.constraint_jacobian, points, rtol=rtol)
+    actuator_rank = largest_rank(lambda index: actuators @ bases[index], range(len(points)), rtol=rtol,
+                                 scale=actuator_scale)
+    end_effector_rank = None
+    if model.end_effector_dimension > 0:
+        jacobians = [model.end_effector_jacobian(point) for point in points]
+        end_effector_rank = max((numerical_rank(jacobian @ basis, rtol=rtol, scale=np.linalg.norm(jacobian, 2)).rank
+                                 for jacobian, basis in zip(jacobians, bases)), default=0)
     return Survey(len(points), constraint_rank, actuator_rank, end_effector_rank)

@@ -125,18 +125,21 @@ def sample_manifold(manifold, rng, starts, random_count=24, walk_count=24, step=
     return np.array(samples)
 
 
-def largest_rank(matrix_field, points, rtol=DEFAULT_RTOL, atol=DEFAULT_ATOL):
+def largest_rank(matrix_field, points, rtol=DEFAULT_RTOL, atol=DEFAULT_ATOL, scale=None):
     """The largest numerical rank a matrix field reaches over sample points.
 
     Parameters
     ----------
     matrix_field : callable
         ``matrix_field(point) -> array, shape=[rows, columns]``.
-    points : array_like, shape=[count, point_size]
+    points : iterable
+        The arguments of `matrix_field`, usually points of shape [point_size].
+    scale : float, optional
+        Reference scale of every decision (see :func:`numerical_rank`).
 
     Returns
     -------
     rank : int
     """
-    return max((numerical_rank(matrix_field(point), rtol=rtol, atol=atol).rank for point in points),
+    return max((numerical_rank(matrix_field(point), rtol=rtol, atol=atol, scale=scale).rank for point in points),
                default=0)

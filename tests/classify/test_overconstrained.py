@@ -44,3 +44,29 @@ def test_planar_loop_written_in_space_is_overconstrained_not_singular():
     report = classify(mechanism, home(mechanism), rng=np.random.default_rng(0))
     assert report.dof == 1 and report.kinds == ()
     assert report.cspace.rank == 3
+
+
+def test_idle_freedom_is_reported_not_called_singular():
+    """RSSR: the coupler spins freely about the line of its two ball joints. That freedom is a
+    dimension of M that no actuator sees (G has rank ≤ 1 < m = 2 everywhere): an idle freedom."""
+    from mechanisms import Joint, Mechanism
+    mechanism = Mechanism("RSSR", "spatial", [
+        Joint("A", "R", ("ground", "crank"), point=(0, 0, 0), axis=(0, 0, 1), actuated=True),
+        Joint("B", "S", ("crank", "coupler"), point=(1, 0, 0.2)),
+        Joint("C", "S", ("coupler", "rocker"), point=(1.5, 1.6, 0.6)),
+        Joint("D", "R", ("rocker", "ground"), point=(0.3, 1.5, 0), axis=(1, 0.2, 0.1)),
+    ])
+    report = classify(mechanism, home(mechanism), rng=np.random.default_rng(0))
+    assert report.dof == 2
+    assert report.idle_freedoms == 1
+    assert report.kinds == ()
+    assert report.actuator.rank == 1 and report.actuator.expected_rank == 1
+    assert report.to_dict()["actuator"]["idle_freedoms"] == 1
+
+
+def test_spherical_four_bar_has_one_degree_of_freedom():
+    from builders import spherical_four_bar
+    mechanism = spherical_four_bar()
+    report = classify(mechanism, home(mechanism), rng=np.random.default_rng(0))
+    assert report.dof == 1 and report.kinds == ()
+    assert len(report.manipulability.eigenvalues) == 1
