@@ -8,7 +8,7 @@ singularities; reports. Imports :mod:`mechanisms` and :mod:`manifold`.
 from .classification import classify, classify_many
 from .metrics import (
     Manipulability, actuator_metric, end_effector_metric, manipulability,
-    pullback_metric, weighted_actuator_jacobian,
+    metric_root, pullback_metric, weighted_actuator_jacobian,
 )
 from .model import Model, model_of
 from .report import KINDS, KindResult, Report
@@ -18,7 +18,7 @@ from .survey import Survey, survey
 __all__ = [
     "classify", "classify_many",
     "Manipulability", "actuator_metric", "end_effector_metric", "manipulability",
-    "pullback_metric", "weighted_actuator_jacobian",
+    "metric_root", "pullback_metric", "weighted_actuator_jacobian",
     "Model", "model_of",
     "KINDS", "KindResult", "Report",
     "SECOND_ORDER_RTOL", "SecondOrderResult", "SelfMotion", "fibre", "second_order_test",

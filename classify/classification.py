@@ -18,7 +18,7 @@ import numpy as np
 from manifold import DEFAULT_RTOL, local_rank, numerical_rank, tangent_basis
 from mechanisms import CLOSURE_TOLERANCE, ConfigurationError, Mechanism
 
-from .metrics import manipulability
+from .metrics import manipulability, metric_root
 from .model import model_of
 from .report import KindResult, Report
 from .second_order import second_order_test
@@ -81,7 +81,8 @@ def classify(mechanism, point, survey=None, rng=None, rtol=DEFAULT_RTOL, length_
     cspace_singular = constraint_decision.rank < near.rank
     cspace_extra = {}
     if cspace_singular:
-        cspace_extra = {"kernel_dimension": int(basis.shape[1]), "tangent_cone_span": _secant_span(manifold, point, near.neighbours)}
+        cspace_extra = {"kernel_dimension": int(basis.shape[1]), "tangent_cone_dimension": int(dof),
+                        "tangent_cone_span": _secant_span(manifold, point, near.neighbours)}
         notes.append("C-space singularity: actuator and end-effector ranks are computed on ker DΦ(p), "
                      "which is larger than the tangent spaces of M nearby")
     lost = _kernel_beyond(jacobian, constraint_decision.rank, near.rank) if cspace_singular else np.zeros((k, 0))
@@ -109,9 +110,10 @@ def classify(mechanism, point, survey=None, rng=None, rtol=DEFAULT_RTOL, length_
     end_effector_block = None
     n = model.end_effector_dimension
     if n:
+        root = metric_root(model.end_effector_metric)
         full = model.end_effector_jacobian(point)
         end_effector_block = full @ basis
-        decision = numerical_rank(end_effector_block, rtol=rtol, scale=_largest_singular_value(full))
+        decision = numerical_rank(root @ end_effector_block, rtol=rtol, scale=_largest_singular_value(root @ full))
         expected = min(n, dof, survey.end_effector_rank)
         singular = decision.rank < expected
         kernel = basis @ _kernel(end_effector_block, decision.rank) if singular else np.zeros((k, 0))
@@ -126,6 +128,8 @@ def classify(mechanism, point, survey=None, rng=None, rtol=DEFAULT_RTOL, length_
 
     # second order, at regular points of M only
     second = None
+    if actuator_singular and cspace_singular:
+        notes.append("the second-order test is not run at a C-space singularity: degeneracy undetermined")
     if actuator_singular and not cspace_singular:
         if idle:
             notes.append("the second-order test is not implemented for mechanisms with idle freedoms")

@@ -161,7 +161,7 @@ def _run_report(arguments, out):
             report = classify(model, point, survey=shared, rng=rng)
             reports.append((str(path), name, report))
     if arguments.format == "json":
-        text = json.dumps([{"file": path, "configuration": name, **report.to_dict()}
+        text = json.dumps([{"file": path, "configuration_name": name, **report.to_dict()}
                            for path, name, report in reports], indent=2, ensure_ascii=False)
     else:
         details = "\n\n".join(f"== {path} [{name}]\n{report.to_text()}" for path, name, report in reports)

@@ -28,7 +28,7 @@ from mechanisms import actuator_jacobian, end_effector_dimension, kinematics_of
 
 __all__ = [
     "actuator_metric", "weighted_actuator_jacobian", "end_effector_metric",
-    "pullback_metric", "Manipulability", "manipulability",
+    "metric_root", "pullback_metric", "Manipulability", "manipulability",
 ]
 
 
@@ -69,6 +69,12 @@ def end_effector_metric(mechanism, length_scale=None):
         rotation_rows = 1 if compiled.space == "planar" else 3
         metric[:rotation_rows, :rotation_rows] *= scale ** 2
     return metric
+
+
+def metric_root(metric):
+    """H^½, the symmetric square root of a metric: rank decisions on H^½ J are taken in H's units."""
+    values, vectors = np.linalg.eigh(metric)
+    return vectors @ np.diag(np.sqrt(np.clip(values, 0.0, None))) @ vectors.T
 
 
 def pullback_metric(matrix, basis):

@@ -35,7 +35,8 @@ __all__ = [
     "SECOND_ORDER_RTOL", "SelfMotion", "SecondOrderResult", "second_order_test", "fibre",
 ]
 
-#: forms count as vanishing at v when sqrt(Σ Q_e(v)²) ≤ SECOND_ORDER_RTOL · (curvature scale of M at p, at least 1)
+#: forms count as vanishing at v when sqrt(Σ Q_e(v)²) ≤ SECOND_ORDER_RTOL · c · s, with c the largest
+#: ambient acceleration of unit-speed curves of M at p (at least 1) and s = σ₁(E^½ Dπ) (the actuator weights)
 SECOND_ORDER_RTOL = 1e-6
 
 
@@ -50,7 +51,7 @@ class SelfMotion:
     distance : float
         Distance reached from p̄ (scaled chart units).
     largest_residual : float
-        Largest |(Φ, π − π(p̄))| along the curve.
+        Largest ‖(Φ, π − π(p̄))‖ along the curve.
     points : ndarray, shape=[steps, point_size]
     """
 
@@ -175,8 +176,8 @@ def second_order_test(manifold, point, basis, selection, rng, rtol=1e-6, scale=N
     kernel = basis @ kernel_coordinates                      # [k, κ]
     curvature = constraint_curvature(manifold, point, kernel)          # [k, κ, κ]
     forms = np.einsum("ae,ak,kij->eij", complement, selection, curvature)
-    scale = max(1.0, float(np.max(np.abs(constraint_curvature(manifold, point, basis)), initial=0.0)))
-    tolerance = second_order_rtol * scale
+    curvature_scale = max(1.0, float(np.max(np.abs(constraint_curvature(manifold, point, basis)), initial=0.0)))
+    tolerance = second_order_rtol * curvature_scale * scale
     smallest, vector = _smallest_common_value(forms, rng)
     if smallest > tolerance:
         return SecondOrderResult("nondegenerate", forms, kernel, smallest, tolerance, None, None,

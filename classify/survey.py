@@ -15,6 +15,8 @@ import numpy as np
 
 from manifold import DEFAULT_RTOL, largest_rank, numerical_rank, sample_manifold, tangent_basis
 
+from .metrics import metric_root
+
 __all__ = ["Survey", "survey"]
 
 
@@ -71,7 +73,8 @@ def survey(model, rng, starts=None, random_count=24, walk_count=24, rtol=DEFAULT
                                  scale=actuator_scale)
     end_effector_rank = None
     if model.end_effector_dimension > 0:
-        jacobians = [model.end_effector_jacobian(point) for point in points]
+        root = metric_root(model.end_effector_metric)
+        jacobians = [root @ model.end_effector_jacobian(point) for point in points]
         end_effector_rank = max((numerical_rank(jacobian @ basis, rtol=rtol, scale=np.linalg.norm(jacobian, 2)).rank
                                  for jacobian, basis in zip(jacobians, bases)), default=0)
     return Survey(len(points), constraint_rank, actuator_rank, end_effector_rank)

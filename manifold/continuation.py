@@ -32,7 +32,7 @@ class CurveCertificate:
     points : ndarray, shape=[steps + 1, point_size]
         The corrected points, the start first.
     largest_residual : float
-        Largest |Φ| over the points.
+        Largest ‖Φ‖ over the points.
     direction : ndarray, shape=[k]
         The initial direction, unit length.
     """

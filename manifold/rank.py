@@ -13,10 +13,13 @@ singular value grows like the square root of the distance to the
 singularity, so a configuration given to rounding error (1e-16) shows
 σ ≈ 1e-8: the default cut ``rtol = 1e-6`` sits above that and well below the
 singular values of any configuration a user would call regular. Relative cuts
-do not change when all lengths of a mechanism are multiplied by a common
-factor (the rows of constraint maps are made dimensionless upstream). The
-decision carries its *margin*: the last singular value kept and the first one
-dropped, so a user sees how close a call was.
+do not change when a matrix is multiplied by a common factor; mixed units
+(angles and lengths in one matrix) are made commensurate upstream (loop
+rows divided by a characteristic length, end-effector Jacobians weighted by
+H^½).
+
+The decision carries its *margin*: the last singular value kept and the
+first one dropped, so a user sees how close a call was.
 """
 
 from __future__ import annotations

@@ -24,7 +24,7 @@ __all__ = [
     "to_displacements", "configuration", "Projected",
 ]
 
-#: largest |Φ| (dimensionless rows) for a configuration to count as closed
+#: largest ‖Φ‖ (dimensionless rows) for a configuration to count as closed
 CLOSURE_TOLERANCE = 1e-9
 
 

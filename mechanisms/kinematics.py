@@ -351,7 +351,7 @@ def constraint_hessian(mechanism, point):
 
 
 def closes(mechanism, point, tolerance=1e-9):
-    """Whether every loop closes: |Φ| ≤ tolerance and no loop is a half-turn, shape=[...]."""
+    """Whether every loop closes: ‖Φ‖ ≤ tolerance and no loop is a half-turn, shape=[...]."""
     compiled = kinematics_of(mechanism)
     point = _as_points(mechanism, point)
     result = np.ones(point.shape[:-1], dtype=bool)

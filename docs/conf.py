@@ -1,0 +1,53 @@
+"""Sphinx configuration of the closedchain documentation.
+
+Build with ``sphinx-build -b html docs docs/_build/html``; run the examples
+of the pages and of the docstrings with ``sphinx-build -b doctest docs
+docs/_build/doctest``.
+"""
+
+import os
+import sys
+
+# The three packages (manifold, mechanisms, classify) live at the repository root.
+ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), ".."))
+sys.path.insert(0, ROOT)
+
+project = "closedchain"
+author = "the closedchain authors"
+copyright = "the closedchain authors"
+release = "0.1.0"
+version = "0.1"
+
+extensions = [
+    "sphinx.ext.autodoc",
+    "sphinx.ext.napoleon",
+    "sphinx.ext.mathjax",
+    "sphinx.ext.doctest",
+]
+
+# numpy-style docstrings only
+napoleon_google_docstring = False
+napoleon_numpy_docstring = True
+napoleon_use_rtype = False
+
+autodoc_member_order = "bysource"
+autodoc_default_options = {"members": True, "show-inheritance": True}
+autodoc_typehints = "none"
+
+# The docstrings' examples run in their module's namespace; give the doctest
+# builder the public names of the three packages and numpy as np.
+doctest_global_setup = """
+import numpy as np
+from manifold import *
+from mechanisms import *
+from mechanisms.io import *
+from classify import *
+"""
+
+source_suffix = {".rst": "restructuredtext"}
+root_doc = "index"
+exclude_patterns = ["_build"]
+pygments_style = "sphinx"
+
+html_theme = "alabaster"
+html_title = "closedchain"
