@@ -119,7 +119,13 @@ def fibre(manifold, point, selection):
 
 
 def _smallest_common_value(forms, rng, starts=64):
-    """min over the unit sphere of sqrt(Σ_e (vᵀ Q_e v)²) and its argmin."""
+    """min over the unit sphere of sqrt(Σ_e (vᵀ Q_e v)²) and its argmin.
+
+    dim K = 1: exact. dim K = 2: a dense scan of the half circle v = (cos t, sin t)
+    refined by bounded minimisation (deterministic). Higher dimensions: the best of
+    `starts` random unit vectors refined by least squares (a missed common root is possible; the
+    reported minimum shows the margin).
+    """
     dimension = forms.shape[-1]
     if forms.shape[0] == 0:
         return 0.0, np.eye(dimension)[:, 0]
@@ -130,9 +136,26 @@ def _smallest_common_value(forms, rng, starts=64):
 
     if dimension == 1:
         return value(np.ones(1)), np.ones(1)
+    if dimension == 2:
+        angles = np.linspace(0.0, np.pi, 721)
+        values = [value(np.array([np.cos(a), np.sin(a)])) for a in angles]
+        best = int(np.argmin(values))
+        step = angles[1] - angles[0]
+        result = scipy.optimize.minimize_scalar(lambda a: value(np.array([np.cos(a), np.sin(a)])),
+                                                bounds=(angles[best] - step, angles[best] + step),
+                                                method="bounded", options={"xatol": 1e-12})
+        angle = result.x if result.fun <= values[best] else angles[best]
+        vector = np.array([np.cos(angle), np.sin(angle)])
+        return value(vector), vector
     candidates = rng.standard_normal((starts, dimension))
     best = min(candidates, key=value)
-    result = scipy.optimize.minimize(lambda v: value(v) ** 2, best, method="BFGS")
+
+    def residuals(vector):
+        vector = vector / np.linalg.norm(vector)
+        return np.einsum("i,eij,j->e", vector, forms, vector)
+
+    result = scipy.optimize.least_squares(residuals, best / np.linalg.norm(best), xtol=1e-15, ftol=1e-15,
+                                          gtol=1e-15)
     vector = result.x / np.linalg.norm(result.x)
     if value(vector) > value(best):
         vector = best / np.linalg.norm(best)
