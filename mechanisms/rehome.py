@@ -13,7 +13,7 @@ import dataclasses
 import numpy as np
 
 from . import _groups as groups
-from .kinematics import kinematics_of, link_pose
+from .kinematics import link_pose
 from .mechanism import Mechanism
 
 __all__ = ["rehome", "move_base", "flip_axis"]
@@ -26,7 +26,7 @@ def _transform_point(space, pose, point):
     return tuple(pose[: size - 1, : size - 1] @ np.asarray(point) + pose[: size - 1, size - 1])
 
 
-def _transform_axis(space, pose, axis, planar_translation=True):
+def _transform_axis(space, pose, axis):
     if axis is None:
         return None
     if space == "planar":
@@ -72,7 +72,6 @@ def rehome(mechanism, point):
     -------
     Mechanism
     """
-    kinematics_of(mechanism)
     poses = {link: link_pose(mechanism, link, point) for link in mechanism.links}
     return _moved(mechanism, poses.__getitem__, poses.__getitem__)
 
