@@ -4,18 +4,18 @@ Geometry is that of the assembled reference configuration ("home"), in the
 ground frame; a joint value is the displacement of the second listed link
 relative to the first (DESIGN.md, "Mechanism file").
 
-=====  ===============================  ===========================  ===========
-type   fields                           value                        factors
-=====  ===============================  ===========================  ===========
-``R``  ``point`` (planar/spatial),      rotation angle (rad),        S¹
+=====  ===============================  ==============================  ===========
+type   fields                           value                           factors
+=====  ===============================  ==============================  ===========
+``R``  ``point`` (planar/spatial),      rotation angle (rad),           S¹
        ``axis`` (spherical/spatial)     right-handed about the axis
-``P``  ``axis``                         translation along the axis   ℝ
-``S``  ``point`` (spatial)              rotation vector, in ground   SO(3)
+``P``  ``axis``                         translation along the axis      ℝ
+``S``  ``point`` (spatial)              rotation vector, in ground      SO(3)
                                         frame components
-``U``  ``point``, ``axes``              pair of angles, the first    S¹ × S¹
+``U``  ``point``, ``axes``              pair of angles, the first       S¹ × S¹
                                         axis fixed in the first link
-``C``  ``point``, ``axis``              (angle, translation)         S¹ × ℝ
-=====  ===============================  ===========================  ===========
+``C``  ``point``, ``axis``              (angle, translation)            S¹ × ℝ
+=====  ===============================  ==============================  ===========
 """
 
 from __future__ import annotations
