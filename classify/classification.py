@@ -51,7 +51,8 @@ def classify(mechanism, point, survey=None, rng=None, rtol=DEFAULT_RTOL, length_
     rtol : float
         Relative cut of every rank decision (:func:`manifold.numerical_rank`).
     length_scale : float, optional
-        L of the SE(2)/SE(3) end-effector metric (default the characteristic length).
+        L of the SE(2)/SE(3) end-effector metric (default the characteristic
+        length). Only for a Mechanism: a Model carries its own H.
 
     Returns
     -------
@@ -63,6 +64,8 @@ def classify(mechanism, point, survey=None, rng=None, rtol=DEFAULT_RTOL, length_
         If `point` does not close the loops.
     """
     rng = np.random.default_rng(0) if rng is None else rng
+    if not isinstance(mechanism, Mechanism) and length_scale is not None:
+        raise ValueError("length_scale applies to a Mechanism; a Model carries its own end-effector metric")
     model = model_of(mechanism, length_scale) if isinstance(mechanism, Mechanism) else mechanism
     point = np.asarray(point, dtype=float)
     manifold = model.manifold
@@ -113,10 +116,11 @@ def classify(mechanism, point, survey=None, rng=None, rtol=DEFAULT_RTOL, length_
         root = metric_root(model.end_effector_metric)
         full = model.end_effector_jacobian(point)
         end_effector_block = full @ basis
-        decision = numerical_rank(root @ end_effector_block, rtol=rtol, scale=_largest_singular_value(root @ full))
+        weighted_block = root @ end_effector_block
+        decision = numerical_rank(weighted_block, rtol=rtol, scale=_largest_singular_value(root @ full))
         expected = min(n, dof, survey.end_effector_rank)
         singular = decision.rank < expected
-        kernel = basis @ _kernel(end_effector_block, decision.rank) if singular else np.zeros((k, 0))
+        kernel = basis @ _kernel(weighted_block, decision.rank) if singular else np.zeros((k, 0))
         end_effector = KindResult(singular, decision.rank, expected, decision, kernel,
                                   {"on_kernel_of_constraint": True} if cspace_singular else {})
 
@@ -163,7 +167,10 @@ def classify_many(mechanism, points, survey=None, rng=None, **options):
     reports : list of Report, in C order of the batch dimensions
     """
     rng = np.random.default_rng(0) if rng is None else rng
-    model = model_of(mechanism, options.get("length_scale")) if isinstance(mechanism, Mechanism) else mechanism
+    length_scale = options.pop("length_scale", None)
+    if not isinstance(mechanism, Mechanism) and length_scale is not None:
+        raise ValueError("length_scale applies to a Mechanism; a Model carries its own end-effector metric")
+    model = model_of(mechanism, length_scale) if isinstance(mechanism, Mechanism) else mechanism
     points = np.asarray(points, dtype=float)
     flat = points.reshape(-1, points.shape[-1])
     if survey is None:
