@@ -8,14 +8,14 @@ unless it is projected onto the C-space.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
 
 from manifold import ProjectionError, project, rotation_exp, rotation_log
 
-from .errors import ConfigurationError
+from .errors import ConfigurationError, MechanismError
+from .io import check_displacement
 from .joints import joint_factors
 from .kinematics import closes, configuration_space, constraint, kinematics_of
 
@@ -33,33 +33,24 @@ def home(mechanism):
     return kinematics_of(mechanism).ambient.neutral()
 
 
-def _is_number(value):
-    return isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, bool)
-
-
 def validate_displacements(mechanism, displacements, where="displacements"):
     """Check a mapping joint name -> displacement against a mechanism.
 
     A number for R and P joints, 3 numbers (a rotation vector) for S, 2 numbers
-    for U and C. Raises :class:`ConfigurationError` naming the joint.
+    for U and C (:func:`mechanisms.io.check_displacement`). Raises
+    :class:`ConfigurationError` naming the joint.
     """
     if not isinstance(displacements, dict):
         raise ConfigurationError(f"{where}: expected a mapping from joint names to displacements, "
                                  f"got {type(displacements).__name__}")
-    names = {joint.name: joint for joint in mechanism.joints}
+    joints = {joint.name: joint for joint in mechanism.joints}
     for name, value in displacements.items():
-        if name not in names:
+        if name not in joints:
             raise ConfigurationError(f"{where}: joint {name!r}: unknown joint")
-        joint = names[name]
-        size = {"R": 1, "P": 1, "S": 3, "U": 2, "C": 2}[joint.type]
-        values = [value] if size == 1 and _is_number(value) else value
-        if size == 1 and not _is_number(value):
-            raise ConfigurationError(f"{where}: joint {name!r}: expected a number, got {value!r}")
-        if not isinstance(values, (list, tuple)) or len(values) != size or not all(map(_is_number, values)):
-            raise ConfigurationError(f"{where}: joint {name!r}: expected a list of {size} numbers "
-                                     f"for a {joint.type} joint, got {value!r}")
-        if not all(math.isfinite(float(v)) for v in values):
-            raise ConfigurationError(f"{where}: joint {name!r}: expected finite numbers, got {value!r}")
+        try:
+            check_displacement(value, joints[name], f"{where}: joint {name!r}")
+        except MechanismError as error:
+            raise ConfigurationError(str(error)) from None
 
 
 def from_displacements(mechanism, displacements, where="displacements"):

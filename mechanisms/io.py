@@ -71,7 +71,7 @@ import numpy as np
 import yaml
 
 from .errors import MechanismError
-from .joints import EndEffector, Joint
+from .joints import EndEffector, Joint, is_number
 from .mechanism import Mechanism
 
 _TOP_LEVEL_FIELDS = ("name", "space", "ground", "joints", "end_effector",
@@ -426,12 +426,13 @@ def _configurations_from_dict(data, mechanism):
             joint_where = f"{where}: joint {joint_name!r}"
             if not isinstance(joint_name, str) or joint_name not in joints:
                 raise MechanismError(f"{joint_where}: unknown joint")
-            configuration[joint_name] = _displacement(value, joints[joint_name], joint_where)
+            configuration[joint_name] = check_displacement(value, joints[joint_name], joint_where)
         configurations[name] = configuration
     return configurations
 
 
-def _displacement(value, joint, where):
+def check_displacement(value, joint, where):
+    """A joint displacement checked against the joint type: a float, or a list of floats."""
     size, meaning = _DISPLACEMENTS[joint.type]
     if size is None:
         if _is_sequence(value):
@@ -485,16 +486,12 @@ def _string(value, where):
     return value
 
 
-def _is_number(value):
-    return isinstance(value, numbers.Real) and not isinstance(value, (bool, np.bool_))
-
-
 def _is_sequence(value):
     return isinstance(value, (list, tuple, np.ndarray))
 
 
 def _number(value, where):
-    if not _is_number(value):
+    if not is_number(value):
         raise MechanismError(f"{where}: expected a number, got {_describe(value)}")
     try:
         number = float(value)
@@ -511,7 +508,7 @@ def _numbers(values, where):
         raise MechanismError(f"{where}: expected a list of numbers, got {_describe(values)}")
     checked = []
     for position, value in enumerate(values):
-        if not _is_number(value):
+        if not is_number(value):
             raise MechanismError(f"{where}: item {position}: expected a number, "
                                  f"got {_describe(value)}")
         checked.append(_number(value, f"{where}: item {position}"))

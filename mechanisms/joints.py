@@ -21,6 +21,7 @@ type   fields                           value                           factors
 from __future__ import annotations
 
 import math
+import numbers
 from dataclasses import dataclass
 from typing import Optional
 
@@ -48,8 +49,9 @@ _SUFFIXES = {"R": ("",), "P": ("",), "S": ("[x]", "[y]", "[z]"), "U": ("[1]", "[
              "C": ("[angle]", "[slide]")}
 
 
-def _is_number(value):
-    return isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, bool)
+def is_number(value):
+    """True for a real number that is not a boolean (``True`` is an int in Python)."""
+    return isinstance(value, numbers.Real) and not isinstance(value, (bool, np.bool_))
 
 
 def _vector(values, where):
@@ -58,7 +60,7 @@ def _vector(values, where):
         return None
     if isinstance(values, (str, bytes)) or not hasattr(values, "__len__"):
         raise MechanismError(f"{where}: expected a list of numbers, got {values!r}")
-    if not all(_is_number(value) for value in values):
+    if not all(is_number(value) for value in values):
         raise MechanismError(f"{where}: expected numbers, got {list(values)!r}")
     return tuple(float(value) for value in values)
 
@@ -104,7 +106,7 @@ class Joint:
             if isinstance(self.axes, (str, bytes)) or not hasattr(self.axes, "__len__"):
                 raise MechanismError(f"{where}: field 'axes': expected two axes, got {self.axes!r}")
             object.__setattr__(self, "axes", tuple(_vector(axis, f"{where}: field 'axes'") for axis in self.axes))
-        if not _is_number(self.weight):
+        if not is_number(self.weight):
             raise MechanismError(f"{where}: field 'weight': expected a number, got {self.weight!r}")
         object.__setattr__(self, "weight", float(self.weight))
 
