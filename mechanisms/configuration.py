@@ -16,7 +16,6 @@ from manifold import ProjectionError, project, rotation_exp, rotation_log
 
 from .errors import ConfigurationError, MechanismError
 from .io import check_displacement
-from .joints import joint_factors
 from .kinematics import closes, configuration_space, constraint, kinematics_of
 
 __all__ = [
@@ -69,10 +68,8 @@ def from_displacements(mechanism, displacements, where="displacements"):
     validate_displacements(mechanism, displacements, where)
     compiled = kinematics_of(mechanism)
     point = compiled.ambient.neutral()
-    factor = 0
     for joint in mechanism.joints:
-        parts = compiled.ambient.point_slices[factor: factor + len(joint_factors(joint))]
-        factor += len(parts)
+        parts = compiled.point_parts[joint.name]
         if joint.name not in displacements:
             continue
         value = displacements[joint.name]
@@ -89,10 +86,9 @@ def to_displacements(mechanism, point):
     """The displacement mapping of a point (inverse of :func:`from_displacements`)."""
     compiled = kinematics_of(mechanism)
     point = np.asarray(point, dtype=float)
-    result, factor = {}, 0
+    result = {}
     for joint in mechanism.joints:
-        parts = compiled.ambient.point_slices[factor: factor + len(joint_factors(joint))]
-        factor += len(parts)
+        parts = compiled.point_parts[joint.name]
         if joint.type == "S":
             result[joint.name] = [float(v) for v in rotation_log(point[parts[0]].reshape(3, 3))]
         elif len(parts) == 1:

@@ -82,6 +82,9 @@ class Kinematics:
         Names of the chord joints, one per loop.
     link_chains : dict
         Link name -> chain from the ground to that link.
+    point_parts : dict
+        Joint name -> tuple of slices of the point array holding its coordinates
+        (one per ambient factor: one for R, P, S; two for U, C).
     length : float
         Characteristic length dividing translation rows.
     """
@@ -91,6 +94,7 @@ class Kinematics:
     loops: tuple
     chords: tuple
     link_chains: dict
+    point_parts: dict
     length: float
     end_effector_link: Optional[str]
     end_effector_point: Optional[np.ndarray]
@@ -160,10 +164,11 @@ def kinematics_of(mechanism):
             factors.append(factor)
             scales.append(length if factor == "R" else 1.0)
     ambient = AmbientSpace(tuple(factors), tuple(scales))
-    joint_elements, factor_index, tangent_start = [], 0, 0
+    joint_elements, point_parts, factor_index, tangent_start = [], {}, 0, 0
     for joint in mechanism.joints:
         count = len(joint_factors(joint))
         parts = ambient.point_slices[factor_index: factor_index + count]
+        point_parts[joint.name] = parts
         joint_elements.append(_joint_elements(mechanism, joint, parts, tangent_start))
         factor_index += count
         tangent_start += sum(3 if f == "SO3" else 1 for f in joint_factors(joint))
@@ -197,7 +202,7 @@ def kinematics_of(mechanism):
     end_effector = mechanism.end_effector
     compiled = Kinematics(
         space=mechanism.space, ambient=ambient, loops=tuple(loops), chords=tuple(chords),
-        link_chains=link_chains, length=length,
+        link_chains=link_chains, point_parts=point_parts, length=length,
         end_effector_link=None if end_effector is None else end_effector.link,
         end_effector_point=None if end_effector is None or end_effector.point is None
         else np.asarray(end_effector.point, dtype=float),

@@ -12,7 +12,6 @@ from manifold import ProjectionError, project, tangent_basis
 from mechanisms import (
     closes, configuration_space, end_effector_jacobian, flip_axis, home, kinematics_of, move_base, rehome,
 )
-from mechanisms.joints import joint_factors
 
 FIG6A = [(0.0, 0.0), (0.0, 1.0), (1.0, 1.0), (2.0, 1.0), (2.0, 0.0)]
 MECHANISMS = {
@@ -55,9 +54,7 @@ def assert_same(first, second, values=True):
 
 def joint_parts(mechanism, name):
     """Slices of the point that hold joint `name`'s coordinates."""
-    space = kinematics_of(mechanism).ambient
-    owners = [joint.name for joint in mechanism.joints for _ in joint_factors(joint)]
-    return [space.point_slices[i] for i, owner in enumerate(owners) if owner == name]
+    return kinematics_of(mechanism).point_parts[name]
 
 
 @pytest.mark.parametrize("name", sorted(MECHANISMS))

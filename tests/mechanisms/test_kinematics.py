@@ -52,20 +52,15 @@ def slopes(function, jacobian, hessian, point, space, rng, chart=None):
 def random_points(mechanism, rng, count=3):
     space = kinematics_of(mechanism).ambient
     points = list(space.random_point(rng, size=count))
-    for joint_index, joint in enumerate(mechanism.joints):  # ball joints at gimbal attitudes
+    for joint in mechanism.joints:  # ball joints at gimbal attitudes
         if joint.type == "S":
             point = space.random_point(rng)
             for attitude in ([0, np.pi / 2, 0], [0, 0, 1e-9], [np.pi - 1e-6, 0, 0]):
-                part = space.point_slices[[i for i, j in enumerate(_factor_owners(mechanism)) if j == joint_index][0]]
+                (part,) = kinematics_of(mechanism).point_parts[joint.name]
                 point = point.copy()
                 point[part] = rotation_exp(np.array(attitude, dtype=float)).ravel()
                 points.append(point)
     return points
-
-
-def _factor_owners(mechanism):
-    from mechanisms.joints import joint_factors
-    return [index for index, joint in enumerate(mechanism.joints) for _ in joint_factors(joint)]
 
 
 @pytest.mark.parametrize("name", sorted(MECHANISMS))
