@@ -12,7 +12,7 @@ $(BIN)/closedchain: pyproject.toml
 	touch $@
 
 demo: $(BIN)/closedchain
-	$(BIN)/closedchain report examples --output report.txt
+	$(BIN)/closedchain report --output report.txt
 
 test: $(BIN)/closedchain
 	$(BIN)/python -m pytest

@@ -1,9 +1,12 @@
 """The ``closedchain`` command.
 
-``closedchain classify FILE [--at JSON|@file] [--project] [--format json|text]``
-classifies ``home ⊕ at`` (DESIGN.md, "CLI"); ``closedchain report [PATH ...]``
-classifies every mechanism file under the paths at its home and at each of
-its named configurations and prints a table.
+``closedchain classify FILE|NAME [--configuration C] [--param k=v ...] [--at JSON|@file]
+[--project] [--format json|text]`` classifies ``home ⊕ at`` (DESIGN.md, "CLI") of a
+mechanism file or of a catalogue entry; ``closedchain report [PATH ...]``
+classifies every mechanism file under the paths (default: every catalogue
+entry) at its home and at each of its named configurations and prints a table;
+``closedchain catalog [NAME] [--write FILE]`` lists the catalogue, describes an
+entry, or writes it as a mechanism file.
 
 Exit status: 0 done (singular or not), 2 bad input (one line on stderr), 1 an
 internal error.
@@ -20,8 +23,9 @@ from pathlib import Path
 
 import numpy as np
 
-from mechanisms import ConfigurationError, MechanismError, configuration
-from mechanisms.io import read
+from mechanisms import ConfigurationError, MechanismError, configuration, home
+from mechanisms import catalogue
+from mechanisms.io import read, save
 
 from .classification import classify
 from .model import model_of
@@ -44,20 +48,36 @@ class _Parser(argparse.ArgumentParser):
 def _parser():
     parser = _Parser(prog="closedchain", description="Singularity analysis of closed kinematic chains.")
     commands = parser.add_subparsers(dest="command", required=True, parser_class=_Parser)
-    one = commands.add_parser("classify", help="classify one configuration of a mechanism file")
-    one.add_argument("file", help="mechanism file (YAML or JSON)")
+    one = commands.add_parser("classify", help="classify one configuration of a mechanism file or catalogue entry")
+    one.add_argument("file", metavar="FILE|NAME", help="mechanism file (YAML or JSON) or catalogue name")
+    _entry_options(one)
     one.add_argument("--at", default=None,
                      help="joint displacements from home as a JSON object, or @file.json")
     one.add_argument("--project", action="store_true",
                      help="project a configuration that does not close onto the C-space")
     one.add_argument("--format", choices=("json", "text"), default="text")
     _common_options(one)
-    many = commands.add_parser("report", help="classify every mechanism file under the paths")
-    many.add_argument("paths", nargs="*", default=["examples"], help="files or folders (default: examples)")
+    many = commands.add_parser("report", help="classify the catalogue, or every mechanism file under the paths")
+    many.add_argument("paths", nargs="*", default=[], metavar="PATH|NAME",
+                      help="files, folders or catalogue names (default: every catalogue entry, "
+                           "at its defaults and at each named configuration)")
     many.add_argument("--output", default=None, help="also write the report to this file")
     many.add_argument("--format", choices=("json", "text"), default="text")
     _common_options(many)
+    listing = commands.add_parser("catalog", help="list the catalogue, describe an entry or write it to a file")
+    listing.add_argument("name", nargs="?", default=None, help="catalogue name (default: list them all)")
+    _entry_options(listing)
+    listing.add_argument("--write", default=None, metavar="FILE",
+                         help="write the entry as a mechanism file (.yaml, .yml or .json)")
+    listing.add_argument("--format", choices=("json", "text"), default="text")
     return parser
+
+
+def _entry_options(parser):
+    parser.add_argument("--configuration", default=None, metavar="C",
+                        help="a named configuration (of the catalogue entry, or of the file)")
+    parser.add_argument("--param", action="append", default=[], metavar="K=V",
+                        help="a catalogue parameter (repeatable); see `closedchain catalog NAME`")
 
 
 def _common_options(parser):
@@ -89,12 +109,37 @@ def _check_length_scale(value):
         raise InputError(f"--length-scale: expected a positive finite number, got {value}")
 
 
+def _catalogue_mechanism(name, configuration_name, parameters):
+    """The mechanism of a catalogue entry with `--param` texts applied."""
+    item = catalogue.entry(name)
+    values = dict(catalogue.parse_parameter(item, text) for text in parameters)
+    return item.mechanism(configuration_name, **values)
+
+
+def _source(arguments):
+    """(mechanism, displacements of the named configuration) for FILE or catalogue NAME."""
+    path = Path(arguments.file)
+    if not path.exists() and arguments.file in catalogue.names():
+        return _catalogue_mechanism(arguments.file, arguments.configuration, arguments.param), {}
+    if not path.exists() and path.suffix not in MECHANISM_SUFFIXES:
+        raise InputError(f"{arguments.file}: no such file or catalogue entry (see `closedchain catalog`)")
+    if arguments.param:
+        raise InputError(f"--param: applies to catalogue entries, not to the file {arguments.file}")
+    document = read(path)
+    if arguments.configuration is None:
+        return document.mechanism, {}
+    if arguments.configuration not in document.configurations:
+        known = ", ".join(document.configurations) or "none"
+        raise InputError(f"--configuration: {path} has no configuration {arguments.configuration!r} "
+                         f"(known: {known})")
+    return document.mechanism, document.configurations[arguments.configuration]
+
+
 def _run_classify(arguments, out):
     _check_length_scale(arguments.length_scale)
-    document = read(arguments.file)
-    mechanism = document.mechanism
-    projected = configuration(mechanism, _displacements(arguments.at), project_onto=arguments.project,
-                              where="--at")
+    mechanism, named = _source(arguments)
+    displacements = {**named, **_displacements(arguments.at)}
+    projected = configuration(mechanism, displacements, project_onto=arguments.project, where="--at")
     rng = np.random.default_rng(arguments.seed)
     report = classify(mechanism, projected.point, rng=rng, length_scale=arguments.length_scale)
     if arguments.format == "json":
@@ -106,6 +151,55 @@ def _run_classify(arguments, out):
         if projected.distance:
             out.write(f"projected onto the C-space: moved by {projected.distance:.3g}\n")
         out.write(report.to_text() + "\n")
+
+
+def _entry_description(item, configuration_name, values):
+    settings = ", ".join(f"{name}={value!r}" for name, value in values.items())
+    at = f" at {configuration_name}" if configuration_name else ""
+    return (f"closedchain catalogue entry {item.name}{at}: {item.summary} "
+            f"From {item.reference}. Parameters: {settings}.")
+
+
+def _run_catalog(arguments, out):
+    if arguments.name is None:
+        if arguments.write or arguments.param or arguments.configuration:
+            raise InputError("catalog: --write, --param and --configuration need a catalogue NAME")
+        items = catalogue.entries()
+        if arguments.format == "json":
+            out.write(json.dumps([_entry_dict(item) for item in items], indent=2, ensure_ascii=False) + "\n")
+            return
+        width = max(len(item.name) for item in items)
+        for item in items:
+            out.write(f"{item.name.ljust(width)}  {item.summary}\n")
+            out.write(f"{'':{width}}  {item.reference}\n")
+            if item.configurations:
+                out.write(f"{'':{width}}  configurations: {', '.join(item.configurations)}\n")
+        return
+    item = catalogue.entry(arguments.name)
+    values = item.values(arguments.configuration,
+                         **dict(catalogue.parse_parameter(item, text) for text in arguments.param))
+    mechanism = item.build(**values)
+    if arguments.write:
+        save(mechanism, arguments.write, description=_entry_description(item, arguments.configuration, values))
+        print(f"{item.name} written to {arguments.write}", file=sys.stderr)
+        return
+    if arguments.format == "json":
+        out.write(json.dumps({**_entry_dict(item), "values": values}, indent=2, ensure_ascii=False) + "\n")
+        return
+    lines = [f"{item.name}: {item.summary}", f"from {item.reference}", "", "parameters (value, default):"]
+    lines += [f"  {name} = {value!r}  (default {item.parameters[name]!r})" for name, value in values.items()]
+    lines += ["", "configurations:"]
+    lines += [f"  {name}: " + ", ".join(f"{key}={value!r}" for key, value in presets.items())
+              for name, presets in item.configurations.items()] or ["  none"]
+    lines += ["", f"{mechanism.space} mechanism, {len(mechanism.joints)} joints, {mechanism.loop_count} loop(s), "
+              f"actuated: {', '.join(joint.name for joint in mechanism.joints if joint.actuated) or 'none'}"]
+    out.write("\n".join(lines) + "\n")
+
+
+def _entry_dict(item):
+    return {"name": item.name, "summary": item.summary, "reference": item.reference,
+            "parameters": item.parameters,
+            "configurations": {name: dict(presets) for name, presets in item.configurations.items()}}
 
 
 def _mechanism_files(paths):
@@ -143,10 +237,9 @@ def report_table(reports):
     return "\n".join(lines)
 
 
-def _run_report(arguments, out):
-    _check_length_scale(arguments.length_scale)
-    reports = []
-    for path in _mechanism_files(arguments.paths):
+def _file_reports(paths, arguments):
+    """(file, configuration name, Report) for every mechanism file under the paths."""
+    for path in _mechanism_files(paths):
         document = read(path)
         mechanism = document.mechanism
         named = {"home": {}}
@@ -158,11 +251,33 @@ def _run_report(arguments, out):
         shared = survey_mechanism(model, rng, starts=np.stack(list(points.values())))
         for name, point in points.items():
             print(f"classifying {path} [{name}]", file=sys.stderr)
-            report = classify(model, point, survey=shared, rng=rng)
-            reports.append((str(path), name, report))
+            yield str(path), name, classify(model, point, survey=shared, rng=rng)
+
+
+def _catalogue_reports(items, arguments):
+    """(entry name, configuration name, Report) for catalogue entries at each named configuration."""
+    for item in items:
+        for name in ("default", *item.configurations):
+            print(f"classifying {item.name} [{name}]", file=sys.stderr)
+            mechanism = item.mechanism(None if name == "default" else name)
+            rng = np.random.default_rng(arguments.seed)
+            yield item.name, name, classify(mechanism, home(mechanism), rng=rng,
+                                            length_scale=arguments.length_scale)
+
+
+def _run_report(arguments, out):
+    _check_length_scale(arguments.length_scale)
+    def is_entry(text):
+        return text in catalogue.names() and not Path(text).exists()
+
+    names = [text for text in arguments.paths if is_entry(text)] if arguments.paths else catalogue.names()
+    paths = [text for text in arguments.paths if not is_entry(text)]
+    reports = list(_catalogue_reports(map(catalogue.entry, names), arguments))
+    if paths:
+        reports += list(_file_reports(paths, arguments))
     if arguments.format == "json":
-        text = json.dumps([{"file": path, "configuration_name": name, **report.to_dict()}
-                           for path, name, report in reports], indent=2, ensure_ascii=False)
+        text = json.dumps([{"source": source, "configuration_name": name, **report.to_dict()}
+                           for source, name, report in reports], indent=2, ensure_ascii=False)
     else:
         details = "\n\n".join(f"== {path} [{name}]\n{report.to_text()}" for path, name, report in reports)
         text = report_table(reports) + "\n\n" + details
@@ -177,10 +292,8 @@ def main(argv=None, out=None):
     out = sys.stdout if out is None else out
     try:
         arguments = _parser().parse_args(argv)
-        if arguments.command == "classify":
-            _run_classify(arguments, out)
-        else:
-            _run_report(arguments, out)
+        {"classify": _run_classify, "report": _run_report, "catalog": _run_catalog}[arguments.command](
+            arguments, out)
         return 0
     except (InputError, MechanismError, ConfigurationError) as error:
         message = " ".join(str(error).split())

@@ -12,27 +12,6 @@ from manifold import AmbientSpace, ImplicitManifold
 from mechanisms import EndEffector, Joint, Mechanism
 
 
-# --------------------------------------------------------------------------- slider-crank
-
-def slider_crank(crank, coupler, theta, branch=1, actuated="crank", end_effector=True):
-    """Park & Kim Fig. 3 / Gosselin & Angeles eqs. (6)-(17), assembled at crank angle θ.
-
-    branch +1 / −1: x = R cos θ ± √(l² − R² sin² θ) (G-A eq. 9); 0: the constant branch x = 0 of
-    the equal-link design (G-A eq. 17).
-    """
-    pin = crank * np.array([np.cos(theta), np.sin(theta)])
-    if branch == 0:
-        slider = np.zeros(2)
-    else:
-        slider = np.array([pin[0] + branch * np.sqrt(max(coupler ** 2 - pin[1] ** 2, 0.0)), 0.0])
-    return Mechanism("slider-crank", "planar", [
-        Joint("crank", "R", ("ground", "crank"), point=(0.0, 0.0), actuated=actuated == "crank"),
-        Joint("pin", "R", ("crank", "coupler"), point=tuple(pin)),
-        Joint("wrist", "R", ("coupler", "slider"), point=tuple(slider)),
-        Joint("slide", "P", ("ground", "slider"), axis=(1.0, 0.0), actuated=actuated == "slider"),
-    ], end_effector=EndEffector("slider", tuple(slider), "position") if end_effector else None)
-
-
 # --------------------------------------------------------------------------- five-bar
 
 def five_bar(points, actuated=("J1", "J5"), end_effector="distal1"):

@@ -115,3 +115,78 @@ def test_report_classifies_every_example(tmp_path, capsys):
                 "fig3b_actuator", "fig3c_dead_centre", "fig3d_dead_centre", "constant_branch"):
         assert row in text
     assert "nondegenerate" in text and "degenerate" in text
+
+
+# ---------------------------------------------------------------- the catalogue
+
+def test_catalog_lists_every_entry(capsys):
+    from mechanisms.catalogue import names
+    status, out, _ = run(["catalog"], capsys)
+    assert status == 0
+    assert all(name in out for name in names())
+    status, out, _ = run(["catalog", "--format", "json"], capsys)
+    listed = json.loads(out)
+    assert [item["name"] for item in listed] == list(names())
+    assert listed[0]["parameters"]["crank"] == 2.0
+
+
+def test_catalog_describes_an_entry_with_its_values(capsys):
+    status, out, _ = run(["catalog", "slider-crank", "--configuration", "fig3c_dead_centre",
+                          "--param", "crank=3"], capsys)
+    assert status == 0
+    assert "crank = 3.0  (default 2.0)" in out and "theta = 0.0" in out and "fig3b_actuator" in out
+
+
+def test_catalog_writes_a_mechanism_file_that_classifies_like_the_entry(tmp_path, capsys):
+    path = tmp_path / "dead_centre.yaml"
+    status, _, err = run(["catalog", "slider-crank", "--configuration", "fig3c_dead_centre",
+                          "--write", str(path)], capsys)
+    assert status == 0, err
+    _, from_file, _ = run(["classify", str(path), "--format", "json"], capsys)
+    _, from_entry, _ = run(["classify", "slider-crank", "--configuration", "fig3c_dead_centre",
+                            "--format", "json"], capsys)
+    assert json.loads(from_file)["kinds"] == json.loads(from_entry)["kinds"] == ["end_effector"]
+    assert "fig3c_dead_centre" in yaml.safe_load(path.read_text())["description"]
+
+
+def test_classify_a_catalogue_entry_with_parameters_and_at(capsys):
+    status, out, _ = run(["classify", "slider-crank", "--param", "theta=0.5235987755982988",
+                          "--format", "json"], capsys)
+    assert status == 0 and json.loads(out)["kinds"] == ["actuator"]
+    status, _, err = run(["classify", "slider-crank", "--at", '{"crank": 0.2}'], capsys)
+    assert status == 2 and "does not close" in err
+
+
+def test_a_files_named_configuration_is_classified(capsys):
+    status, out, _ = run(["classify", str(EXAMPLES / "five_bar.yaml"), "--configuration",
+                          "fig6a_distal_aligned", "--format", "json"], capsys)
+    assert status == 0 and json.loads(out)["kinds"] == ["actuator"]
+
+
+@pytest.mark.parametrize("arguments, message", [
+    (["classify", "slider-crank", "--param", "theta=1.2"], "theta = 1.2: the coupler cannot reach"),
+    (["classify", "slider-crank", "--param", "theta=pi"], "--param theta: expected a number"),
+    (["classify", "slider-crank", "--configuration", "fig9"], "unknown configuration 'fig9'"),
+    (["classify", "no-such-linkage"], "no-such-linkage: no such file or catalogue entry"),
+    (["classify", str(EXAMPLES / "five_bar.yaml"), "--param", "theta=1"], "--param: applies to catalogue"),
+    (["classify", str(EXAMPLES / "five_bar.yaml"), "--configuration", "fig9"], "has no configuration 'fig9'"),
+    (["catalog", "no-such-linkage"], "no catalogue entry 'no-such-linkage'"),
+    (["catalog", "--write", "x.yaml"], "need a catalogue NAME"),
+    (["catalog", "slider-crank", "--write", "x.txt"], "x.txt"),
+])
+def test_catalogue_input_errors_exit_2_with_one_line(arguments, message, capsys):
+    status, out, err = run(arguments, capsys)
+    assert status == 2 and out == ""
+    assert message in err and err.count("\n") == 1 and "Traceback" not in err
+
+
+def test_report_of_catalogue_entries_and_files(capsys):
+    status, out, err = run(["report", "slider-crank", str(EXAMPLES / "slider_crank.yaml"),
+                            "--format", "json"], capsys)
+    assert status == 0
+    rows = json.loads(out)
+    sources = {row["source"] for row in rows}
+    assert sources == {"slider-crank", str(EXAMPLES / "slider_crank.yaml")}
+    named = {row["configuration_name"]: row["kinds"] for row in rows if row["source"] == "slider-crank"}
+    assert named["default"] == [] and named["fig3b_actuator"] == ["actuator"]
+    assert "classifying slider-crank [fig3b_actuator]" in err

@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 from scipy.spatial.transform import Rotation
 
-from builders import bennett, five_bar, five_bar_positions, rsur, slider_crank, spherical_four_bar
+from builders import bennett, five_bar, five_bar_positions, rsur, spherical_four_bar
+from mechanisms.catalogue.slider_crank import slider_crank
 from classify import classify, manipulability
 from manifold import ProjectionError, project, tangent_basis
 from mechanisms import (
@@ -17,8 +18,8 @@ FIG6A = [(0.0, 0.0), (0.0, 1.0), (1.0, 1.0), (2.0, 1.0), (2.0, 0.0)]
 MECHANISMS = {
     "five-bar": lambda: five_bar(five_bar_positions(1.2, 2.0)),
     "five-bar fig6a": lambda: five_bar(FIG6A),
-    "slider-crank fig3b": lambda: slider_crank(2.0, 1.0, np.arcsin(0.5)),
-    "slider-crank dead centre": lambda: slider_crank(2.0, 1.0, 0.0),
+    "slider-crank fig3b": lambda: slider_crank(crank=2.0, coupler=1.0, theta=np.arcsin(0.5)),
+    "slider-crank dead centre": lambda: slider_crank(crank=2.0, coupler=1.0, theta=0.0),
     "bennett pose": bennett,
     "RSUR pose": rsur,
     "spherical four-bar": spherical_four_bar,

@@ -10,7 +10,8 @@ of three-angle parametrisations.
 import numpy as np
 import pytest
 
-from builders import bennett, five_bar, five_bar_positions, rsur, slider_crank, spatial_mix, spherical_four_bar
+from builders import bennett, five_bar, five_bar_positions, rsur, spatial_mix, spherical_four_bar
+from mechanisms.catalogue.slider_crank import slider_crank
 from manifold import numerical_rank, project, rotation_exp, tangent_basis
 from mechanisms import (
     configuration_space, constraint, constraint_hessian, constraint_jacobian, end_effector,
@@ -18,7 +19,7 @@ from mechanisms import (
 )
 
 MECHANISMS = {
-    "slider-crank": lambda: slider_crank(2.0, 1.0, 0.3),
+    "slider-crank": lambda: slider_crank(crank=2.0, coupler=1.0, theta=0.3),
     "five-bar": lambda: five_bar(five_bar_positions(1.2, 2.0)),
     "spherical four-bar": spherical_four_bar,
     "bennett": bennett,

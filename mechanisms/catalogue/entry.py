@@ -1,0 +1,151 @@
+"""A catalogue entry: a named mechanism family, its builder and its named configurations.
+
+A builder is a function of keyword-only parameters, each with a default from
+the paper (design dimensions, input values, assembly branch or working mode),
+returning the :class:`~mechanisms.Mechanism` assembled at that configuration:
+its home *is* the requested configuration, so the named configurations of an
+entry are parameter presets, and a nearby configuration is the same builder
+with a nearby input.
+"""
+
+from __future__ import annotations
+
+import inspect
+import math
+from dataclasses import dataclass, field
+from typing import Callable, Mapping
+
+from ..errors import MechanismError
+from ..joints import is_number
+from ..mechanism import Mechanism
+
+__all__ = ["Entry", "parse_parameter"]
+
+
+@dataclass(frozen=True)
+class Entry:
+    """One mechanism of the catalogue.
+
+    Parameters
+    ----------
+    name : str
+        Catalogue name, lower case with hyphens (``"slider-crank"``).
+    build : callable
+        ``build(**parameters) -> Mechanism``; keyword-only parameters, each
+        with a default; raises :class:`~mechanisms.MechanismError` naming the
+        parameter when the mechanism cannot be assembled.
+    reference : str
+        Paper file, figures and equations the entry comes from.
+    configurations : mapping of str to mapping of str to value
+        Named configurations: parameter overrides (e.g. the singular
+        configurations a paper states), each cited in ``reference`` or in
+        the builder's docstring.
+    """
+
+    name: str
+    build: Callable[..., Mechanism]
+    reference: str
+    configurations: Mapping[str, Mapping[str, object]] = field(default_factory=dict)
+
+    def __post_init__(self):
+        for configuration, overrides in self.configurations.items():
+            unknown = set(overrides) - set(self.parameters)
+            if unknown:
+                raise ValueError(f"catalogue entry {self.name!r}: configuration {configuration!r} sets "
+                                 f"unknown parameter(s) {sorted(unknown)}")
+
+    @property
+    def parameters(self):
+        """Parameter name -> default value, in the builder's order."""
+        return {name: parameter.default
+                for name, parameter in inspect.signature(self.build).parameters.items()}
+
+    @property
+    def summary(self):
+        """The first line of the builder's docstring."""
+        return (inspect.getdoc(self.build) or self.name).splitlines()[0]
+
+    def mechanism(self, configuration=None, **parameters):
+        """The mechanism at a named configuration, with parameters overriding it.
+
+        Parameters
+        ----------
+        configuration : str, optional
+            One of :attr:`configurations`; default: the builder's defaults.
+        **parameters
+            Values of the builder's parameters (already typed; see
+            :func:`parse_parameter` for text).
+
+        Returns
+        -------
+        Mechanism
+
+        Raises
+        ------
+        MechanismError
+            For an unknown configuration or parameter, or a parameter with
+            which the mechanism cannot be assembled.
+        """
+        values = self.values(configuration, **parameters)
+        return self.build(**values)
+
+    def values(self, configuration=None, **parameters):
+        """The full parameter set: defaults, then the configuration's presets, then `parameters`."""
+        if configuration is not None and configuration not in self.configurations:
+            known = ", ".join(self.configurations) or "none"
+            raise MechanismError(f"{self.name}: unknown configuration {configuration!r} (known: {known})")
+        unknown = sorted(set(parameters) - set(self.parameters))
+        if unknown:
+            raise MechanismError(f"{self.name}: unknown parameter {unknown[0]!r} "
+                                 f"(parameters: {', '.join(self.parameters)})")
+        values = dict(self.parameters)
+        if configuration is not None:
+            values.update(self.configurations[configuration])
+        values.update(parameters)
+        return values
+
+
+def parse_parameter(entry, text):
+    """Read ``name=value`` text as a typed parameter of `entry` (never evaluated).
+
+    The type is that of the parameter's default: a finite float, an int, a
+    boolean (``true``/``false``) or a string.
+
+    Examples
+    --------
+    >>> from mechanisms.catalogue import entry
+    >>> parse_parameter(entry("slider-crank"), "theta=0.5")
+    ('theta', 0.5)
+
+    Raises
+    ------
+    MechanismError
+        Naming the parameter, for an unknown name or a value of the wrong type.
+    """
+    name, separator, value = text.partition("=")
+    name, value = name.strip(), value.strip()
+    if not separator or not name:
+        raise MechanismError(f"--param: expected name=value, got {text!r}")
+    parameters = entry.parameters
+    if name not in parameters:
+        raise MechanismError(f"--param {name}: {entry.name} has no parameter {name!r} "
+                             f"(parameters: {', '.join(parameters)})")
+    default = parameters[name]
+    if isinstance(default, bool):
+        if value.lower() not in ("true", "false"):
+            raise MechanismError(f"--param {name}: expected true or false, got {value!r}")
+        return name, value.lower() == "true"
+    if isinstance(default, int):
+        try:
+            return name, int(value)
+        except ValueError:
+            raise MechanismError(f"--param {name}: expected an integer, got {value!r}") from None
+    if is_number(default):
+        try:
+            number = float(value)
+        except ValueError:
+            raise MechanismError(f"--param {name}: expected a number, got {value!r}") from None
+        if not math.isfinite(number):
+            raise MechanismError(f"--param {name}: expected a finite number, got {value!r}")
+        return name, number
+    return name, value
