@@ -46,8 +46,33 @@ from classify import *
 
 source_suffix = {".rst": "restructuredtext"}
 root_doc = "index"
-exclude_patterns = ["_build"]
+exclude_patterns = ["_build", "_generated"]
 pygments_style = "sphinx"
 
 html_theme = "alabaster"
 html_title = "closedchain"
+
+
+def _write_catalogue_table(app):
+    """Write ``_generated/catalogue_table.rst`` from the catalogue, so the page never goes stale."""
+    from mechanisms.catalogue import entries
+
+    lines = []
+    for item in entries():
+        lines += [item.name, "~" * len(item.name), "", item.summary, "",
+                  f"*From* {item.reference}. *Builder:* :func:`{item.build.__module__}.{item.build.__name__}`.", ""]
+        lines += ["Parameters (defaults): " + ", ".join(f"``{name}={value!r}``"
+                                                       for name, value in item.parameters.items()) + ".", ""]
+        if item.configurations:
+            lines += ["Named configurations:", ""]
+            lines += [f"* ``{name}``: " + ", ".join(f"``{key}={value!r}``" for key, value in presets.items())
+                      for name, presets in item.configurations.items()]
+            lines.append("")
+    folder = os.path.join(app.srcdir, "_generated")
+    os.makedirs(folder, exist_ok=True)
+    with open(os.path.join(folder, "catalogue_table.rst"), "w", encoding="utf-8") as handle:
+        handle.write("\n".join(lines))
+
+
+def setup(app):
+    app.connect("builder-inited", _write_catalogue_table)

@@ -17,12 +17,12 @@ True
 from __future__ import annotations
 
 from ..errors import MechanismError
-from . import slider_crank
+from . import five_spu, slider_crank
 from .entry import Entry, parse_parameter
 
 __all__ = ["Entry", "entries", "entry", "names", "parse_parameter"]
 
-_FAMILIES = (slider_crank,)
+_FAMILIES = (slider_crank, five_spu)
 
 
 def entries():

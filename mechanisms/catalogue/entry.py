@@ -113,7 +113,7 @@ def parse_parameter(entry, text):
 
     Examples
     --------
-    >>> from mechanisms.catalogue import entry
+    >>> from mechanisms.catalogue import entry, parse_parameter
     >>> parse_parameter(entry("slider-crank"), "theta=0.5")
     ('theta', 0.5)
 
