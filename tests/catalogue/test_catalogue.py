@@ -21,7 +21,7 @@ def test_names_are_unique_and_lower_case_with_hyphens():
 def test_every_entry_round_trips_through_a_mechanism_file(name, configuration, tmp_path):
     item = entry(name)
     mechanism = item.mechanism(configuration)
-    assert mechanism.name == name
+    assert name.startswith(mechanism.name)  # "3-prr-inputs" builds the "3-prr"
     for suffix in (".yaml", ".json"):
         path = tmp_path / f"entry{suffix}"
         save(mechanism, path, description=item.reference)
