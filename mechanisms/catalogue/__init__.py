@@ -17,12 +17,12 @@ True
 from __future__ import annotations
 
 from ..errors import MechanismError
-from . import five_spu, gough_stewart, slider_crank, spherical_3rrr, three_prr
+from . import five_bar, five_spu, gough_stewart, hybrid, slider_crank, spherical_3rrr, three_prr
 from .entry import Entry, parse_parameter
 
 __all__ = ["Entry", "entries", "entry", "names", "parse_parameter"]
 
-_FAMILIES = (slider_crank, spherical_3rrr, gough_stewart, three_prr, five_spu)
+_FAMILIES = (slider_crank, five_bar, spherical_3rrr, gough_stewart, three_prr, hybrid, five_spu)
 
 
 def entries():
