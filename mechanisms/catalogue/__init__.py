@@ -17,12 +17,19 @@ True
 from __future__ import annotations
 
 from ..errors import MechanismError
-from . import five_bar, five_spu, gough_stewart, hybrid, slider_crank, spherical_3rrr, three_prr
+from . import (
+    eclipse, five_bar, five_spu, gough_stewart, hybrid, planar_six_bar, slider_crank, spherical_3rrr,
+    spherical_six_bar, three_prr,
+)
 from .entry import Entry, parse_parameter
 
 __all__ = ["Entry", "entries", "entry", "names", "parse_parameter"]
 
-_FAMILIES = (slider_crank, five_bar, spherical_3rrr, gough_stewart, three_prr, hybrid, five_spu)
+_FAMILIES = (
+    slider_crank, five_bar, spherical_six_bar, planar_six_bar, eclipse,  # Park & Kim
+    spherical_3rrr, gough_stewart,  # Gosselin & Angeles
+    three_prr, hybrid, five_spu,  # Chablat et al., Borràs et al.
+)
 
 
 def entries():
