@@ -217,10 +217,11 @@ def _mechanism_files(paths):
 
 
 def report_table(reports):
-    """A fixed-width table of (file, configuration name, Report) rows."""
-    header = ("mechanism", "configuration", "dof", "kinds", "C-space", "actuator", "end-effector", "κ")
+    """A fixed-width table of (source, configuration name, Report) rows; the source is a catalogue
+    name or a file."""
+    header = ("source", "configuration", "dof", "kinds", "C-space", "actuator", "end-effector", "κ")
     rows = []
-    for _, name, report in reports:
+    for source, name, report in reports:
         def rank(result):
             return "-" if result is None else f"{result.rank}/{result.expected_rank}"
         actuator = rank(report.actuator) + (f" {report.degeneracy}" if report.degeneracy else "")
@@ -228,7 +229,7 @@ def report_table(reports):
         if report.manipulability is not None:
             value = report.manipulability.condition_number
             condition = "∞" if value is None else f"{value:.3g}"
-        rows.append((report.mechanism, name, str(report.dof), ", ".join(report.kinds) or "regular",
+        rows.append((source, name, str(report.dof), ", ".join(report.kinds) or "regular",
                      rank(report.cspace), actuator, rank(report.end_effector), condition))
     widths = [max(len(row[i]) for row in rows + [header]) for i in range(len(header))]
     lines = ["  ".join(cell.ljust(width) for cell, width in zip(row, widths)).rstrip()
