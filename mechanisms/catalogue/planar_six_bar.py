@@ -26,21 +26,10 @@ import math
 from ..errors import MechanismError
 from ..joints import EndEffector, Joint
 from ..mechanism import Mechanism
+from ._six_bar import LINKS, actuated_joints
 from .entry import Entry
 
 __all__ = ["planar_six_bar", "ENTRIES"]
-
-_LINKS = ("ground", "link1", "link2", "link3", "link4", "link5", "ground")
-
-
-def _actuated_joints(actuated):
-    """The set of joint numbers in a string such as ``"135"``; MechanismError naming `actuated` otherwise."""
-    numbers = set(actuated)
-    if not actuated or not numbers <= set("123456") or len(numbers) != len(actuated):
-        raise MechanismError(f"planar-six-bar: actuated must list distinct joint numbers 1-6 "
-                             f"(e.g. '135'), got {actuated!r}")
-    return {int(number) for number in numbers}
-
 
 def planar_six_bar(*, length=1.0, theta1=1.3, theta2=0.6, theta3=-2.0, branch=1, actuated="135",
                    end_effector_link=2):
@@ -90,7 +79,7 @@ def planar_six_bar(*, length=1.0, theta1=1.3, theta2=0.6, theta3=-2.0, branch=1,
         raise MechanismError(f"planar-six-bar: branch must be 1 or -1, got {branch}")
     if end_effector_link not in (1, 2, 3, 4, 5):
         raise MechanismError(f"planar-six-bar: end_effector_link must be 1-5, got {end_effector_link}")
-    driven = _actuated_joints(actuated)
+    driven = actuated_joints(actuated, "planar-six-bar")
     points = [(0.0, 0.0)]
     heading = 0.0
     for angle in (theta1, theta2, theta3):
@@ -111,7 +100,7 @@ def planar_six_bar(*, length=1.0, theta1=1.3, theta2=0.6, theta3=-2.0, branch=1,
     points.append(((points[3][0] + last[0]) / 2 + branch * height * normal[0],
                    (points[3][1] + last[1]) / 2 + branch * height * normal[1]))
     points.append(last)
-    joints = [Joint(f"J{number}", "R", (_LINKS[number - 1], _LINKS[number]), point=points[number - 1],
+    joints = [Joint(f"J{number}", "R", (LINKS[number - 1], LINKS[number]), point=points[number - 1],
                     actuated=number in driven) for number in range(1, 7)]
     start, end = points[end_effector_link - 1], points[end_effector_link]
     midpoint = ((start[0] + end[0]) / 2, (start[1] + end[1]) / 2)

@@ -38,21 +38,10 @@ import numpy as np
 from ..errors import MechanismError
 from ..joints import Joint
 from ..mechanism import Mechanism
+from ._six_bar import LINKS, actuated_joints
 from .entry import Entry
 
 __all__ = ["spherical_six_bar", "symmetric_hexagon", "joint_angles", "ENTRIES"]
-
-_LINKS = ("ground", "link1", "link2", "link3", "link4", "link5", "ground")
-
-
-def _actuated_joints(actuated):
-    """The set of joint numbers in a string such as ``"135"``; MechanismError naming `actuated` otherwise."""
-    numbers = set(actuated)
-    if not actuated or not numbers <= set("123456") or len(numbers) != len(actuated):
-        raise MechanismError(f"spherical-six-bar: actuated must list distinct joint numbers 1-6 "
-                             f"(e.g. '135'), got {actuated!r}")
-    return {int(number) for number in numbers}
-
 
 def _tangent_towards(axis, other):
     """Unit tangent of the sphere at `axis` along the great circle towards `other`."""
@@ -157,7 +146,7 @@ def spherical_six_bar(*, twist=math.radians(70), theta1=1.5, theta2=1.9, theta3=
         raise MechanismError(f"spherical-six-bar: twist must be in (0, pi), got {twist}")
     if branch not in (1, -1):
         raise MechanismError(f"spherical-six-bar: branch must be 1 or -1, got {branch}")
-    driven = _actuated_joints(actuated)
+    driven = actuated_joints(actuated, "spherical-six-bar")
     axes = [np.array([0.0, 0.0, 1.0])]
     previous = np.array([math.sin(twist), 0.0, math.cos(twist)])
     for angle in (theta1, theta2, theta3):
@@ -177,7 +166,7 @@ def spherical_six_bar(*, twist=math.radians(70), theta1=1.5, theta2=1.9, theta3=
     axes.append(scale * (axes[3] + last) + branch * math.sqrt(max(height_squared, 0.0))
                 * normal / np.linalg.norm(normal))
     axes.append(last)
-    joints = [Joint(f"J{number}", "R", (_LINKS[number - 1], _LINKS[number]), axis=tuple(axes[number - 1]),
+    joints = [Joint(f"J{number}", "R", (LINKS[number - 1], LINKS[number]), axis=tuple(axes[number - 1]),
                     actuated=number in driven) for number in range(1, 7)]
     return Mechanism("spherical-six-bar", "spherical", joints)
 
