@@ -18,8 +18,8 @@ from __future__ import annotations
 
 from ..errors import MechanismError
 from . import (
-    eclipse, five_bar, five_spu, gough_stewart, hybrid, planar_six_bar, slider_crank, spherical_3rrr,
-    spherical_six_bar, three_prr,
+    eclipse, five_bar, five_spu, gough_stewart, hybrid, planar_3rrr, planar_six_bar, slider_crank,
+    spherical_3rrr, spherical_six_bar, three_prr, watt,
 )
 from .entry import Entry, parse_parameter
 
@@ -27,7 +27,7 @@ __all__ = ["Entry", "entries", "entry", "names", "parse_parameter"]
 
 _FAMILIES = (
     slider_crank, five_bar, spherical_six_bar, planar_six_bar, eclipse,  # Park & Kim
-    spherical_3rrr, gough_stewart,  # Gosselin & Angeles
+    watt, planar_3rrr, spherical_3rrr, gough_stewart,  # Gosselin & Angeles
     three_prr, hybrid, five_spu,  # Chablat et al., Borràs et al.
 )
 
