@@ -141,12 +141,17 @@ def classify(mechanism, point, survey=None, rng=None, rtol=DEFAULT_RTOL, length_
             second = second_order_test(manifold, point, basis, weighted, rng, rtol=rtol, scale=actuator_scale)
     if idle:
         notes.append(f"{idle} idle freedom(s): G has rank at most {survey.actuator_rank} on M")
+    moving = min(idle, survey.moving_idle_freedoms)
+    if moving:
+        notes.append(f"{moving} of the idle freedoms move the end-effector: with the actuators locked the "
+                     f"end-effector is not fixed anywhere on M — an architecture singularity, unless the task "
+                     f"ignores that motion (e.g. the spin of an axisymmetric tool)")
 
     return Report(
         mechanism=model.name, dof=dof, ambient_dimension=k, coordinate_names=names,
         displacements={} if model.describe is None else model.describe(point), cspace=cspace, actuator=actuator,
         end_effector=end_effector, manipulability=proper, second_order=second,
-        idle_freedoms=idle, survey=survey.to_dict(), notes=tuple(notes),
+        idle_freedoms=idle, survey=survey.to_dict(), notes=tuple(notes), moving_idle_freedoms=moving,
     )
 
 

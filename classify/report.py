@@ -86,6 +86,10 @@ class Report:
     idle_freedoms : int
     survey : dict
     notes : tuple of str
+    moving_idle_freedoms : int
+        How many idle freedoms move the end-effector (see
+        :attr:`classify.survey.Survey.moving_idle_freedoms`): a sign of an
+        architecture singularity.
     """
 
     mechanism: str
@@ -101,6 +105,7 @@ class Report:
     idle_freedoms: int
     survey: dict
     notes: tuple = ()
+    moving_idle_freedoms: int = 0
 
     @property
     def kinds(self):
@@ -125,6 +130,7 @@ class Report:
         actuator = self.actuator.to_dict(names)
         actuator["degeneracy"] = self.degeneracy
         actuator["idle_freedoms"] = int(self.idle_freedoms)
+        actuator["moving_idle_freedoms"] = int(self.moving_idle_freedoms)
         if self.second_order is not None:
             second = self.second_order
             actuator["second_order"] = {
@@ -178,7 +184,8 @@ class Report:
         degeneracy = f", {self.degeneracy}" if self.actuator.singular else ""
         describe("actuator", self.actuator, degeneracy)
         if self.idle_freedoms:
-            lines.append(f"      idle freedoms: {self.idle_freedoms} (not counted as singular)")
+            moving = f", {self.moving_idle_freedoms} moving the end-effector" if self.moving_idle_freedoms else ""
+            lines.append(f"      idle freedoms: {self.idle_freedoms} (not counted as singular{moving})")
         if self.second_order is not None:
             second = self.second_order
             lines.append(f"      second order: min |Q(v)| = {second.smallest:.3g} "

@@ -34,16 +34,35 @@ class Survey:
         Largest rank of G.
     end_effector_rank : int or None
         Largest rank of J (None without end-effector).
+    joint_rank : int or None
+        Largest rank of the stacked map (E^½Dπ T; H^½Df T), each block scaled
+        by its own largest singular value (None without end-effector). Where
+        both largest ranks are reached, ``joint_rank − actuator_rank`` is the
+        number of locked-actuator freedoms that move the end-effector.
     """
 
     samples: int
     constraint_rank: int
     actuator_rank: int
     end_effector_rank: object
+    joint_rank: object = None
+
+    @property
+    def moving_idle_freedoms(self):
+        """How many of the idle freedoms move the end-effector (0 without end-effector).
+
+        An idle freedom that moves the end-effector means that, with the
+        actuators locked, the end-effector is not fixed anywhere on M: an
+        architecture singularity (e.g. a Gough–Stewart platform with similar
+        hexagons, Gosselin & Angeles ``000_cb500b1ffad40f57.txt`` eq. 87), or
+        a motion the task ignores (the spin of an axisymmetric tool).
+        """
+        return 0 if self.joint_rank is None else max(0, self.joint_rank - self.actuator_rank)
 
     def to_dict(self):
         return {"samples": self.samples, "constraint_rank": self.constraint_rank,
-                "actuator_rank": self.actuator_rank, "end_effector_rank": self.end_effector_rank}
+                "actuator_rank": self.actuator_rank, "end_effector_rank": self.end_effector_rank,
+                "joint_rank": self.joint_rank}
 
 
 def survey(model, rng, starts=None, random_count=24, walk_count=24, rtol=DEFAULT_RTOL):
@@ -71,10 +90,15 @@ def survey(model, rng, starts=None, random_count=24, walk_count=24, rtol=DEFAULT
     constraint_rank = largest_rank(manifold.constraint_jacobian, points, rtol=rtol)
     actuator_rank = largest_rank(lambda index: actuators @ bases[index], range(len(points)), rtol=rtol,
                                  scale=actuator_scale)
-    end_effector_rank = None
+    end_effector_rank = joint_rank = None
     if model.end_effector_dimension > 0:
         root = metric_root(model.end_effector_metric)
         jacobians = [root @ model.end_effector_jacobian(point) for point in points]
         end_effector_rank = max((numerical_rank(jacobian @ basis, rtol=rtol, scale=np.linalg.norm(jacobian, 2)).rank
                                  for jacobian, basis in zip(jacobians, bases)), default=0)
-    return Survey(len(points), constraint_rank, actuator_rank, end_effector_rank)
+        actuator_unit = actuators / actuator_scale if actuator_scale else actuators
+        joint_rank = max((numerical_rank(np.vstack([actuator_unit @ basis,
+                                                    jacobian @ basis / max(np.linalg.norm(jacobian, 2), 1e-300)]),
+                                         rtol=rtol, scale=1.0).rank
+                          for jacobian, basis in zip(jacobians, bases)), default=0)
+    return Survey(len(points), constraint_rank, actuator_rank, end_effector_rank, joint_rank)

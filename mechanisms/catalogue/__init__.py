@@ -21,7 +21,7 @@ from . import (
     eclipse, five_bar, five_spu, gough_stewart, hybrid, planar_3rrr, planar_six_bar, slider_crank,
     spherical_3rrr, spherical_six_bar, three_prr, watt,
 )
-from .entry import Entry, parse_parameter
+from ._entry import Entry, parse_parameter
 
 __all__ = ["Entry", "entries", "entry", "names", "parse_parameter"]
 

@@ -63,7 +63,7 @@ from scipy.spatial.transform import Rotation
 from ..errors import MechanismError
 from ..joints import EndEffector, Joint
 from ..mechanism import Mechanism
-from .entry import Entry
+from ._entry import Entry
 
 __all__ = ["eclipse", "ball_positions", "plucker_lines", "ENTRIES"]
 
@@ -147,7 +147,7 @@ def eclipse(*, track_radius=1.0, link_length=1.2, platform_radius=0.3, x=0.05, y
     ------
     MechanismError
         For non-positive dimensions, a bad `elbow`, or a pose at which a ball is out of reach of
-        its link (|R − s| > l, naming the leg).
+        its link (‖R − s‖ > l, naming the leg).
     """
     for name, value in (("track_radius", track_radius), ("link_length", link_length),
                         ("platform_radius", platform_radius)):

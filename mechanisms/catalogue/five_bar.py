@@ -21,7 +21,7 @@ import math
 from ..errors import MechanismError
 from ..joints import EndEffector, Joint
 from ..mechanism import Mechanism
-from .entry import Entry
+from ._entry import Entry
 
 __all__ = ["five_bar", "five_bar_points", "five_bar_inputs", "circle_intersection", "WORKING_MODES", "ENTRIES"]
 
@@ -97,9 +97,9 @@ def five_bar_points(*, base=6.0, proximal=8.0, distal=5.0, proximal_right=0.0, d
     Parameters
     ----------
     base, proximal, distal : float
-        L0 = |AB|, L1 = |AC|, L2 = |CP| (004 Fig. 1).
+        L0 = ‖AB‖, L1 = ‖AC‖, L2 = ‖CP‖ (004 Fig. 1).
     proximal_right, distal_right : float
-        L3 = |BD|, L4 = |DP|; 0 means L3 = L1, L4 = L2 (the symmetric design of 004).
+        L3 = ‖BD‖, L4 = ‖DP‖; 0 means L3 = L1, L4 = L2 (the symmetric design of 004).
     theta1, theta2 : float
         Actuated angles (rad): C = L1 (cos θ1, sin θ1), D = B + L3 (cos θ2, sin θ2).
     assembly : {1, -1, 0}
@@ -177,7 +177,7 @@ def five_bar_inputs(x, y, *, working_mode="++", base=6.0, proximal=8.0, distal=5
     base, proximal, distal, proximal_right, distal_right = _lengths(base, proximal, distal, proximal_right,
                                                                      distal_right)
     p, b = (float(x), float(y)), (base, 0.0)
-    # cross(C − A, P − C) = −side · height · |P − A| (see circle_intersection), hence side = −sign.
+    # cross(C − A, P − C) = −side · height · ‖P − A‖ (see circle_intersection), hence side = −sign.
     left, right = (1 if sign == "+" else -1 for sign in working_mode)
     c = circle_intersection((0.0, 0.0), proximal, p, distal, -left, where=f"five-bar: P = ({x}, {y}), left leg")
     d = circle_intersection(b, proximal_right, p, distal_right, -right,
@@ -194,10 +194,10 @@ def five_bar(*, base=6.0, proximal=8.0, distal=5.0, proximal_right=0.0, distal_r
     Parameters
     ----------
     base, proximal, distal : float
-        L0 = |AB|, L1 = |AC|, L2 = |CP| (004 Fig. 1; defaults: the example of 004
+        L0 = ‖AB‖, L1 = ‖AC‖, L2 = ‖CP‖ (004 Fig. 1; defaults: the example of 004
         Sec. 3.4, L0 = 6, L1 = 8, L2 = 5). Park & Kim's design: 2, 1, 1.
     proximal_right, distal_right : float
-        L3 = |BD|, L4 = |DP|; 0 (default) means L3 = L1, L4 = L2, the symmetric
+        L3 = ‖BD‖, L4 = ‖DP‖; 0 (default) means L3 = L1, L4 = L2, the symmetric
         manipulator 004 studies.
     theta1, theta2 : float
         The actuated angles θ1 of C − A and θ2 of D − B (rad), from the direction AB.
@@ -253,14 +253,14 @@ def five_bar(*, base=6.0, proximal=8.0, distal=5.0, proximal_right=0.0, distal_r
 
 _PARK_KIM = {"base": 2.0, "proximal": 1.0, "distal": 1.0}
 #: Fig. 13 (Park & Kim): A = (0, 0), C = (0, 1), P = (0, 2), D = (0, 3), B = (2, 3), turned so that AB is
-#: the x axis: |AB| = √13, the left leg stretched along a line through D.
+#: the x axis: ‖AB‖ = √13, the left leg stretched along a line through D.
 _FIG13_TURN = math.atan2(3.0, 2.0)
 _FIG13 = {"base": math.sqrt(13.0), "proximal": 1.0, "distal": 1.0, "proximal_right": 2.0, "distal_right": 1.0,
           "theta1": math.pi / 2 - _FIG13_TURN, "theta2": math.pi - _FIG13_TURN}
 
 
 def _distal_aligned(theta1, side, base=6.0, proximal=8.0, distal=5.0):
-    """Inputs with θ3 − θ4 = π (004 eq. 9): |CD| = 2 L2, D on the circle of radius L1 about B."""
+    """Inputs with θ3 − θ4 = π (004 eq. 9): ‖CD‖ = 2 L2, D on the circle of radius L1 about B."""
     c = (proximal * math.cos(theta1), proximal * math.sin(theta1))
     d = circle_intersection(c, 2 * distal, (base, 0.0), proximal, side)
     return {"theta1": theta1, "theta2": math.atan2(d[1], d[0] - base)}

@@ -25,7 +25,7 @@ import numpy as np
 from ..errors import MechanismError
 from ..joints import EndEffector, Joint
 from ..mechanism import Mechanism
-from .entry import Entry
+from ._entry import Entry
 
 __all__ = ["five_spu", "cofactors", "singularity_polynomial", "ENTRIES"]
 
@@ -66,7 +66,7 @@ def five_spu(*, x1=_X[0], y1=_Y[0], z1=_Z[0], x2=_X[1], y2=_Y[1], z2=_Z[1], x3=_
         revolute about n₁ = d₁ × i (d₁ the leg direction) — the paper's
         alternative (Section I); dof 5. A blocked S-P-R leg transmits, besides
         its actuated force, a force along n₁ through a₁, whose moment about Λ
-        is −|d₁ × i| ≠ 0, so it fixes the spin and adds no singularity: the
+        is −‖d₁ × i‖ ≠ 0, so it fixes the spin and adds no singularity: the
         five leg lines are dependent exactly when the six wrenches are.
     end_effector : {"pose", "position", "none"}
         The platform frame at p (pose), the point p alone, or no end-effector.
@@ -77,7 +77,7 @@ def five_spu(*, x1=_X[0], y1=_Y[0], z1=_Z[0], x2=_X[1], y2=_Y[1], z2=_Z[1], x3=_
         Links ``ground``, ``cylinder1..5`` (S side), ``piston1..5`` (U side),
         ``platform``; joints ``S1..S5`` (ground-cylinderᵢ at aᵢ), ``P1..P5``
         (cylinderᵢ-pistonᵢ along bᵢ − aᵢ, actuated), ``U1..U5``
-        (pistonᵢ-platform at bᵢ, axes (nᵢ, i) with nᵢ = dᵢ × i / |dᵢ × i|
+        (pistonᵢ-platform at bᵢ, axes (nᵢ, i) with nᵢ = dᵢ × i / ‖dᵢ × i‖
         fixed in the piston and i fixed in the platform) — or ``R1`` instead of
         ``U1`` when the spin is locked.
 

@@ -20,7 +20,7 @@ from scipy.spatial.transform import Rotation
 from ..errors import MechanismError
 from ..joints import EndEffector, Joint
 from ..mechanism import Mechanism
-from .entry import Entry
+from ._entry import Entry
 
 __all__ = ["gough_stewart", "attachment_angles", "base_points", "platform_points", "ENTRIES"]
 
@@ -91,7 +91,7 @@ def gough_stewart(*, base_radius=1.0, platform_radius=0.5, base_angle=math.pi / 
     Notes
     -----
     The legs are the vectors wᵢ = x + Q p′ᵢ − bᵢ = (Uᵢ, Vᵢ, Wᵢ) of eqs. (76)-(78),
-    of lengths cᵢ = |wᵢ| (eq. 75): the inverse kinematics, in closed form.
+    of lengths cᵢ = ‖wᵢ‖ (eq. 75): the inverse kinematics, in closed form.
 
     References
     ----------

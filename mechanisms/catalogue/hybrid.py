@@ -21,7 +21,7 @@ import math
 
 from ..joints import EndEffector, Joint
 from ..mechanism import Mechanism
-from .entry import Entry
+from ._entry import Entry
 from .five_bar import circle_intersection, five_bar_inputs, five_bar_points
 
 __all__ = ["hybrid", "hybrid_points", "ENTRIES"]
@@ -38,7 +38,7 @@ def hybrid_points(*, base=6.0, proximal=8.0, distal=5.0, theta1=0.4, theta2=1.8,
     Parameters
     ----------
     base, proximal, distal : float
-        L0 = |AB|, L1 = |AC| = |BD|, L2 = |CP| = |DP| (004 Figs. 1, 6).
+        L0 = ‖AB‖, L1 = ‖AC‖ = ‖BD‖, L2 = ‖CP‖ = ‖DP‖ (004 Figs. 1, 6).
     theta1 : float
         θ1, the angle (rad) of the base revolute about the Y axis (line AB).
     theta2, theta3 : float
@@ -122,7 +122,7 @@ def _planar(x, y, working_mode="-+"):
 
 
 def _distal_aligned(theta2, side=1):
-    """θ4 − θ5 = π (eqs. 24-25): |CD| = 2 L2, D on the circle of radius L1 about B."""
+    """θ4 − θ5 = π (eqs. 24-25): ‖CD‖ = 2 L2, D on the circle of radius L1 about B."""
     c = (8.0 * math.cos(theta2), 8.0 * math.sin(theta2))
     d = circle_intersection(c, 10.0, (6.0, 0.0), 8.0, side)
     return {"theta2": theta2, "theta3": math.atan2(d[1], d[0] - 6.0)}

@@ -27,7 +27,7 @@ from scipy.optimize import least_squares
 from ..errors import MechanismError
 from ..joints import EndEffector, Joint
 from ..mechanism import Mechanism
-from .entry import Entry
+from ._entry import Entry
 
 __all__ = ["planar_3rrr", "planar_3rrr_positions", "motor_centres", "gripper_vertices", "leg_aligned_pose",
            "concurrent_distal_pose", "parallel_distal_pose", "ENTRIES"]
@@ -86,7 +86,7 @@ def planar_3rrr_positions(*, base, l1, l2, l3, x, y, phi, modes, thetas):
             gap = float(np.hypot(*(vertex - elbow))) - l2
             if abs(gap) > _REACH_TOLERANCE * max(1.0, l2):
                 raise MechanismError(f"planar-3rrr: theta{leg} = {theta} with mode{leg} = 0: the distal link "
-                                     f"does not reach the gripper (|D{leg} A{leg}| − l2 = {gap:.3g})")
+                                     f"does not reach the gripper (‖D{leg} A{leg}‖ − l2 = {gap:.3g})")
         else:
             if distance < _REACH_TOLERANCE * max(1.0, l1):
                 raise MechanismError(f"planar-3rrr: vertex {leg} is on motor {leg}, θ{leg} is free: "
@@ -94,7 +94,7 @@ def planar_3rrr_positions(*, base, l1, l2, l3, x, y, phi, modes, thetas):
             cosine = (l1 ** 2 - l2 ** 2 + distance ** 2) / (2 * l1 * distance)  # eq. (53)
             if abs(cosine) > 1 + _REACH_TOLERANCE:
                 raise MechanismError(f"planar-3rrr: pose x = {x}, y = {y}, phi = {phi}: leg {leg} cannot "
-                                     f"reach its vertex (|M{leg} A{leg}| = {distance:.6g}, "
+                                     f"reach its vertex (‖M{leg} A{leg}‖ = {distance:.6g}, "
                                      f"l1 = {l1}, l2 = {l2})")
             theta = math.atan2(reach[1], reach[0]) + mode * math.acos(max(-1.0, min(1.0, cosine)))
             elbow = motor + l1 * np.array([math.cos(theta), math.sin(theta)])
@@ -174,16 +174,16 @@ def concurrent_distal_pose(*, base, l1, l2, l3, folded=False, side=1):
     With the gripper centroid on the base centroid c, the configuration is invariant under the
     rotation by 2π/3 about c, so the three distal lines are concurrent as soon as one of them
     passes through c: A₁ = c − l₃ e(φ₁) and D₁ = c − (l₃ ± l₂) e(φ₁)
-    with |D₁ − M₁| = l₁.
+    with ‖D₁ − M₁‖ = l₁.
 
     Parameters
     ----------
     base, l1, l2, l3 : float
         The design.
     folded : bool
-        D₁ between c and A₁ (|c D₁| = |l₃ − l₂|, True) or beyond A₁ (l₃ + l₂, False).
+        D₁ between c and A₁ (‖c D₁‖ = ‖l₃ − l₂‖, True) or beyond A₁ (l₃ + l₂, False).
     side : {1, -1}
-        Which intersection of the circles |c D₁| = const and |M₁ D₁| = l₁.
+        Which intersection of the circles ‖c D₁‖ = const and ‖M₁ D₁‖ = l₁.
 
     Returns
     -------
@@ -225,7 +225,7 @@ def _modes_for(*, base, l1, l2, l3, pose, elbow):
 def parallel_distal_pose(*, base, l1, l2, l3, direction, guess=(0.5, 0.3, 0.0)):
     """A pose where the three distal links are parallel to e(`direction`) (eq. 63), solved numerically.
 
-    Unknowns (x, y, φ); equations |A_i − l₂ e(direction) − M_i|² = l₁², i = 1, 2, 3: the
+    Unknowns (x, y, φ); equations ‖A_i − l₂ e(direction) − M_i‖² = l₁², i = 1, 2, 3: the
     elbows D_i = A_i − l₂ e(direction) on the motors' circles. Solved with
     :func:`scipy.optimize.least_squares` from `guess`, then checked.
 

@@ -27,7 +27,7 @@ from ..errors import MechanismError
 from ..joints import EndEffector, Joint
 from ..mechanism import Mechanism
 from ._six_bar import LINKS, actuated_joints
-from .entry import Entry
+from ._entry import Entry
 
 __all__ = ["planar_six_bar", "ENTRIES"]
 
@@ -70,7 +70,7 @@ def planar_six_bar(*, length=1.0, theta1=1.3, theta2=0.6, theta3=-2.0, branch=1,
     -----
     J2 = J1 + L e(θ1), J3 = J2 + L e(θ1 + θ2), J4 = J3 + L e(θ1 + θ2 + θ3), with
     e(φ) = (cos φ, sin φ); J5 is the intersection of the circles of radius L about J4 and J6:
-    J5 = (J4 + J6)/2 + branch · √(L² − d²/4) · n, d = |J6 − J4|, n the unit normal to
+    J5 = (J4 + J6)/2 + branch · √(L² − d²/4) · n, d = ‖J6 − J4‖, n the unit normal to
     J6 − J4 turned by +90°.
     """
     if not length > 0:

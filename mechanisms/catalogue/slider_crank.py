@@ -11,7 +11,7 @@ import math
 from ..errors import MechanismError
 from ..joints import EndEffector, Joint
 from ..mechanism import Mechanism
-from .entry import Entry
+from ._entry import Entry
 
 __all__ = ["slider_crank", "ENTRIES"]
 
@@ -54,7 +54,7 @@ def slider_crank(*, crank=2.0, coupler=1.0, theta=0.3, branch=1, actuated="crank
         reach = coupler ** 2 - pin[1] ** 2
         if reach < -1e-12 * coupler ** 2:
             raise MechanismError(f"slider-crank: theta = {theta}: the coupler cannot reach the slide "
-                                 f"(|R sin θ| = {abs(pin[1]):.6g} > l = {coupler})")
+                                 f"(‖R sin θ‖ = {abs(pin[1]):.6g} > l = {coupler})")
         slider = (pin[0] + branch * math.sqrt(max(reach, 0.0)), 0.0)
     return Mechanism("slider-crank", "planar", [
         Joint("crank", "R", ("ground", "crank"), point=(0.0, 0.0), actuated=actuated == "crank"),

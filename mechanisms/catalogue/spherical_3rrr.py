@@ -20,11 +20,11 @@ from scipy.spatial.transform import Rotation
 from ..errors import MechanismError
 from ..joints import EndEffector, Joint
 from ..mechanism import Mechanism
-from .entry import Entry
+from ._entry import Entry
 
 __all__ = ["spherical_3rrr", "motor_axes", "leg_axes", "ENTRIES"]
 
-#: tolerance on |uᵢ × vᵢ| below which a leg is folded onto its motor axis
+#: tolerance on ‖uᵢ × vᵢ‖ below which a leg is folded onto its motor axis
 _FOLDED = 1e-12
 
 
@@ -62,7 +62,7 @@ def leg_axes(motor, gripper, alpha1, alpha2, working_mode, theta_folded=0.0, leg
 
     Notes
     -----
-    With cos γ = u·v, w = a u + b v + c (u × v)/|u × v| where
+    With cos γ = u·v, w = a u + b v + c (u × v)/‖u × v‖ where
     a = (cos α₁ − cos α₂ cos γ)/sin²γ, b = (cos α₂ − cos α₁ cos γ)/sin²γ and
     c = ±√(1 − a² − b² − 2ab cos γ): the two working modes (the inverse
     kinematics of a leg, whose branches meet where the leg is fully extended
@@ -97,7 +97,7 @@ def leg_axes(motor, gripper, alpha1, alpha2, working_mode, theta_folded=0.0, leg
         angle = math.degrees(math.acos(cosine))
         raise MechanismError(f"spherical-3rrr: leg {leg}: the gripper orientation (rotation_x, rotation_y, "
                              f"rotation_z) is out of reach: ∠(u, v) = {angle:.6g}° is outside "
-                             f"[|α₁ − α₂|, α₁ + α₂] = [{math.degrees(abs(alpha1 - alpha2)):.6g}°, "
+                             f"[‖α₁ − α₂‖, α₁ + α₂] = [{math.degrees(abs(alpha1 - alpha2)):.6g}°, "
                              f"{math.degrees(alpha1 + alpha2):.6g}°]")
     return first * motor + second * gripper + working_mode * math.sqrt(height) * normal / sine
 
@@ -117,7 +117,7 @@ def spherical_3rrr(*, alpha1=math.pi / 3, alpha2=math.pi / 4, rotation_x=0.3, ro
         base frame (rad); the gripper axes are vᵢ = Q uᵢ (:func:`motor_axes`).
     working_mode_1, working_mode_2, working_mode_3 : {1, -1}
         Working mode of each leg: the sign of (uᵢ × vᵢ)·wᵢ (G-A eq. 69 has
-        Bᵢᵢ = (wᵢ × uᵢ)·vᵢ = −working_mode |Bᵢᵢ|).
+        Bᵢᵢ = (wᵢ × uᵢ)·vᵢ = −working_mode ‖Bᵢᵢ‖).
     theta_folded : float
         Input angle θ (rad, from the base plane) of a leg folded onto its
         motor axis (vᵢ = uᵢ, reachable when α₁ = α₂ at Q = 1), where the

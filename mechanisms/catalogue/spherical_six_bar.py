@@ -39,7 +39,7 @@ from ..errors import MechanismError
 from ..joints import Joint
 from ..mechanism import Mechanism
 from ._six_bar import LINKS, actuated_joints
-from .entry import Entry
+from ._entry import Entry
 
 __all__ = ["spherical_six_bar", "symmetric_hexagon", "joint_angles", "ENTRIES"]
 
@@ -139,7 +139,7 @@ def spherical_six_bar(*, twist=math.radians(70), theta1=1.5, theta2=1.9, theta3=
     -----
     u1 = (0, 0, 1), u6 = (sin α, 0, cos α); u(k+1) = cos α uₖ + sin α (cos θₖ tₖ + sin θₖ uₖ × tₖ)
     for k = 1, 2, 3, tₖ the unit tangent at uₖ towards u(k−1); u5 = c (u4 + u6) + branch · s n with
-    c = cos α / (1 + u4·u6), s = √(1 − 2 c cos α), n = u4 × u6 / |u4 × u6|
+    c = cos α / (1 + u4·u6), s = √(1 − 2 c cos α), n = u4 × u6 / ‖u4 × u6‖
     (u5·u4 = u5·u6 = cos α).
     """
     if not 0 < twist < math.pi:

@@ -30,7 +30,7 @@ from scipy.optimize import least_squares
 from ..errors import MechanismError
 from ..joints import EndEffector, Joint
 from ..mechanism import Mechanism
-from .entry import Entry
+from ._entry import Entry
 
 __all__ = ["three_prr", "three_prr_at_inputs", "WORKING_MODES", "ENTRIES"]
 
@@ -94,7 +94,7 @@ def three_prr(*, platform_radius=100.0, base_radius=200.0, leg_length=200.0,
     Parameters
     ----------
     platform_radius, base_radius, leg_length : float
-        r = |CᵢP|, R = |AᵢO| and l = |BᵢCᵢ| (§2; Figs. 6-8: 100, 200, 200 mm).
+        r = ‖CᵢP‖, R = ‖AᵢO‖ and l = ‖BᵢCᵢ‖ (§2; Figs. 6-8: 100, 200, 200 mm).
     x, y : float
         The operation point P = (x, y), the centre of the platform triangle.
     phi : float
@@ -128,7 +128,7 @@ def three_prr(*, platform_radius=100.0, base_radius=200.0, leg_length=200.0,
         ρᵢ = αᵢᵀdᵢ − sᵢ √(l² − (νᵢᵀdᵢ)²),   so   mᵢ = (cᵢ − bᵢ)ᵀαᵢ = sᵢ √(l² − (νᵢᵀdᵢ)²),
 
     sᵢ = ±1 the sign of mode `working_mode`. mᵢ = 0 (AᵢBᵢ ⊥ BᵢCᵢ) is a serial singularity (§2.3);
-    where |l² − (νᵢᵀdᵢ)²| ≤ 1e-12 l² (roundoff of the pose) the leg is assembled square to its rail,
+    where ‖l² − (νᵢᵀdᵢ)²‖ ≤ 1e-12 l² (roundoff of the pose) the leg is assembled square to its rail,
     since the square root would turn that roundoff into a 1e-6 l error.
 
     References
@@ -166,7 +166,7 @@ def three_prr_at_inputs(*, platform_radius=100.0, base_radius=200.0, leg_length=
     platform_radius, base_radius, leg_length : float
         r, R, l as in :func:`three_prr`.
     rho1, rho2, rho3 : float
-        The actuated displacements ρᵢ = |AᵢBᵢ| (signed, along αᵢ); Bᵢ = Aᵢ + ρᵢαᵢ. The default,
+        The actuated displacements ρᵢ = ‖AᵢBᵢ‖ (signed, along αᵢ); Bᵢ = Aᵢ + ρᵢαᵢ. The default,
         R(√3/2 − 1) each, is the isotropic configuration of Fig. 4a.
     x, y, phi : float
         The initial guess of the pose; the direct kinematics has several solutions (assembly
@@ -185,7 +185,7 @@ def three_prr_at_inputs(*, platform_radius=100.0, base_radius=200.0, leg_length=
 
     Notes
     -----
-    Solves |cᵢ(x, y, φ) − bᵢ(ρᵢ)|² = l², i = 1, 2, 3 (scipy ``least_squares``), then checks closure
+    Solves ‖cᵢ(x, y, φ) − bᵢ(ρᵢ)‖² = l², i = 1, 2, 3 (scipy ``least_squares``), then checks closure
     to 1e-9 l.
 
     References

@@ -15,8 +15,8 @@ put the rocker vertex at x₁ = −cos(ψ + π/3), y₁ = √3/2 + sin(ψ + π/3
 output pivot at (1/2, 0), a frame mirrored with respect to the first
 (x ↦ −x − 1/2). Read in one frame, that is the layout above, and it is the
 only one that makes the rocker rigid and matches the statements after
-eq. (41): joints 2 and 4 can coincide when l₁ = l₂ = 1 (|J₁P| = 1) and joints
-4 and 6 when l₃ = l₄ = 1 (|OP| = 1). The output angle φ here is measured in
+eq. (41): joints 2 and 4 can coincide when l₁ = l₂ = 1 (‖J₁P‖ = 1) and joints
+4 and 6 when l₃ = l₄ = 1 (‖OP‖ = 1). The output angle φ here is measured in
 the first frame: the paper's φ is π − φ. Singular configurations do not
 depend on the frame.
 """
@@ -29,7 +29,7 @@ import math
 from ..errors import MechanismError
 from ..joints import EndEffector, Joint
 from ..mechanism import Mechanism
-from .entry import Entry
+from ._entry import Entry
 
 __all__ = ["watt_six_bar", "watt_positions", "watt_singular_configuration", "watt_input_for_rocker", "ENTRIES"]
 
@@ -83,10 +83,10 @@ def watt_positions(*, l1, l2, l3, l4, theta, branch_rocker=1, branch_output=1, p
     theta : float
         Input angle θ of the crank (rad).
     branch_rocker : {1, -1, 0}
-        ψ = β + branch · arccos((1 + d² − l₂²) / (2d)) (eq. 24), d = |J₂ − P|; 0: ψ is given by
+        ψ = β + branch · arccos((1 + d² − l₂²) / (2d)) (eq. 24), d = ‖J₂ − P‖; 0: ψ is given by
         `psi` instead (needed where J₂ = P, eq. 41 with l₁ = l₂ = 1).
     branch_output : {1, -1}
-        φ = α + branch · arccos((l₃² + r² − l₄²) / (2 l₃ r)) (eq. 23), r = |V − O|.
+        φ = α + branch · arccos((l₃² + r² − l₄²) / (2 l₃ r)) (eq. 23), r = ‖V − O‖.
     psi : float
         ψ when ``branch_rocker == 0``.
 
@@ -109,7 +109,7 @@ def watt_positions(*, l1, l2, l3, l4, theta, branch_rocker=1, branch_output=1, p
         gap = math.hypot(*_difference(joint3, joint2)) - l2
         if abs(gap) > _REACH_TOLERANCE * max(1.0, l2):
             raise MechanismError(f"watt-six-bar: psi = {psi} with branch_rocker = 0: the coupler l2 "
-                                 f"does not close (|J2 J3| − l2 = {gap:.3g})")
+                                 f"does not close (‖J2 J3‖ − l2 = {gap:.3g})")
     else:
         if d < _REACH_TOLERANCE:
             raise MechanismError(f"watt-six-bar: theta = {theta}: joints 2 and 4 coincide, ψ is free; "
@@ -215,22 +215,22 @@ def watt_singular_configuration(condition, *, l1, l2, l3, l4, stretched=True, si
 
     if condition == "N1":
         joint3 = _circle_intersection(rocker, 1.0, pivot, abs(l1 + sign * l2), side,
-                                      f"{condition}: joint 3 cannot be at |l1 ± l2| from joint 1")
+                                      f"{condition}: joint 3 cannot be at ‖l1 ± l2‖ from joint 1")
         theta = _angle(joint3) if (stretched or l1 > l2) else _angle(joint3) + math.pi
         output_branch = 1
     elif condition == "D1":
         joint2 = _circle_intersection(pivot, l1, rocker, abs(1.0 + sign * l2), side,
-                                      f"{condition}: joint 2 cannot be at |1 ± l2| from joint 4")
+                                      f"{condition}: joint 2 cannot be at ‖1 ± l2‖ from joint 4")
         theta, output_branch = _angle(joint2), 1
     elif condition in ("N2", "D2"):
         if condition == "N2":
             joint6 = _circle_intersection(output, l3, rocker, abs(1.0 + sign * l4), side,
-                                          f"{condition}: joint 6 cannot be at |1 ± l4| from joint 4")
+                                          f"{condition}: joint 6 cannot be at ‖1 ± l4‖ from joint 4")
             toward = _angle(_difference(joint6, rocker)) + (0.0 if (stretched or l4 < 1) else math.pi)
             joint5 = _point(rocker, 1.0, toward)
         else:
             joint5 = _circle_intersection(rocker, 1.0, output, abs(l3 + sign * l4), side,
-                                          f"{condition}: joint 5 cannot be at |l3 ± l4| from joint 7")
+                                          f"{condition}: joint 5 cannot be at ‖l3 ± l4‖ from joint 7")
         psi = _angle(_difference(joint5, rocker)) - math.pi / 3
         theta = watt_input_for_rocker(psi, l1=l1, l2=l2)
         output_branch = None
@@ -259,7 +259,7 @@ def watt_input_for_rocker(psi, *, l1, l2, side=1):
     Returns
     -------
     float
-        θ with |J₂ − J₃| = l₂, J₂ = l₁ (cos θ, sin θ).
+        θ with ‖J₂ − J₃‖ = l₂, J₂ = l₁ (cos θ, sin θ).
 
     Raises
     ------
@@ -277,7 +277,7 @@ def _cross(first, second):
 
 
 def _misalignment(condition, points):
-    """|sin| of the angle between the two segments the condition aligns (0 when aligned)."""
+    """‖sin‖ of the angle between the two segments the condition aligns (0 when aligned)."""
     pairs = {"N1": (("joint1", "joint2"), ("joint2", "joint3")),
              "D1": (("joint4", "joint3"), ("joint3", "joint2")),
              "N2": (("joint4", "joint5"), ("joint5", "joint6")),

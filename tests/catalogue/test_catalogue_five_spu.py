@@ -214,6 +214,8 @@ def test_named_configurations(name):
     assert report.degeneracy == degeneracy
     locked = values["spin"] == "locked"
     assert (report.dof, report.idle_freedoms) == ((5, 0) if locked else (6, 1))
+    # the free spin turns the platform frame: an idle freedom that moves the (pose) end-effector
+    assert report.moving_idle_freedoms == report.idle_freedoms
     assert report.survey["actuator_rank"] == 5
     assert report.end_effector.rank == report.dof  # the platform pose follows every motion, the spin included
 

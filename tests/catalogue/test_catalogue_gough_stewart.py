@@ -128,7 +128,8 @@ def test_eq87_design_is_architecturally_singular():
     every pose — an architecture singularity — and with the legs locked at a generic pose the
     platform still moves (a 1-dof self-motion: poses 0.2 away with the same cᵢ, eq. 75, found
     independently by least squares). The classifier sees rank G ≤ 5 all over M and reports it as
-    one idle freedom; at a generic pose nothing more is singular."""
+    one idle freedom — one that moves the end-effector, the mark of an architecture singularity —;
+    at a generic pose nothing more is singular."""
     pose = {"x": 0.3, "y": -0.2, "z": 0.8, "rotation_x": 0.4, "rotation_y": -0.3, "rotation_z": 0.5}
     direct, lengths = paper_matrices("eq87_parallel_legs", **pose)
     assert relative_singular_values(direct)[-1] < 1e-14 and relative_singular_values(direct)[-2] > 1e-3
@@ -144,7 +145,14 @@ def test_eq87_design_is_architecturally_singular():
     assert np.max(np.abs(leg_residual(solution.x, start))) < 1e-12
     report = classified(ENTRY.mechanism("eq87_parallel_legs", **pose))
     assert report.idle_freedoms == 1 and report.actuator.rank == 5
+    assert report.moving_idle_freedoms == 1
+    assert any("architecture singularity" in note for note in report.notes)
     assert report.kinds == ()
+
+
+def test_a_generic_design_has_no_idle_freedom():
+    report = classified(ENTRY.mechanism())
+    assert report.idle_freedoms == 0 and report.moving_idle_freedoms == 0
 
 
 @pytest.mark.xfail(strict=True, reason="core: the second-order test is not implemented for mechanisms with "
