@@ -21,7 +21,7 @@ from mechanisms import CLOSURE_TOLERANCE, ConfigurationError, Mechanism
 from .metrics import manipulability, metric_root
 from .model import model_of
 from .report import KindResult, Report
-from .second_order import second_order_test
+from .second_order import idle_slice, second_order_test
 from .survey import survey as survey_mechanism
 
 __all__ = ["classify", "classify_many"]
@@ -135,10 +135,19 @@ def classify(mechanism, point, survey=None, rng=None, rtol=DEFAULT_RTOL, length_
     if actuator_singular and cspace_singular:
         notes.append("the second-order test is not run at a C-space singularity: degeneracy undetermined")
     if actuator_singular and not cspace_singular:
+        tested, tested_basis = manifold, basis
         if idle:
-            notes.append("the second-order test is not implemented for mechanisms with idle freedoms")
-        else:
-            second = second_order_test(manifold, point, basis, weighted, rng, rtol=rtol, scale=actuator_scale)
+            tested, _ = idle_slice(manifold, point, basis, near.neighbours, weighted, idle, rtol=rtol)
+            if tested is None:
+                notes.append("idle freedoms: no neighbour on M to find their directions; "
+                             "the second-order test is not run")
+            else:
+                tested_basis = tangent_basis(tested, point, rtol=rtol)[0]
+                notes.append(f"second-order test on a slice of M through p transverse to the {idle} idle "
+                             f"freedom(s) (their directions: the limit of ker G at regular neighbours)")
+        if tested is not None:
+            second = second_order_test(tested, point, tested_basis, weighted, rng, rtol=rtol,
+                                       scale=actuator_scale)
     if idle:
         notes.append(f"{idle} idle freedom(s): G has rank at most {survey.actuator_rank} on M")
     moving = min(idle, survey.moving_idle_freedoms)

@@ -29,10 +29,10 @@ from typing import Optional
 import numpy as np
 import scipy.optimize
 
-from manifold import ImplicitManifold, constraint_curvature, continue_curve, numerical_rank
+from manifold import ImplicitManifold, constraint_curvature, continue_curve, numerical_rank, tangent_basis
 
 __all__ = [
-    "SECOND_ORDER_RTOL", "SelfMotion", "SecondOrderResult", "second_order_test", "fibre",
+    "SECOND_ORDER_RTOL", "SelfMotion", "SecondOrderResult", "second_order_test", "fibre", "idle_slice",
 ]
 
 #: forms count as vanishing at v when sqrt(Σ Q_e(v)²) ≤ SECOND_ORDER_RTOL · c · s, with c the largest
@@ -116,6 +116,77 @@ def fibre(manifold, point, selection):
         return np.concatenate([manifold.constraint_jacobian(q), selection], axis=-2)
 
     return ImplicitManifold(ambient, constraint, jacobian, is_solution=manifold.is_solution)
+
+
+def idle_slice(manifold, point, basis, neighbours, selection, idle, rtol=1e-6):
+    """M cut through p̄ transversally to its idle freedoms: ``M ∩ {Iᵀ(q ⊖ p̄) = 0}``.
+
+    With idle freedoms (G of rank m − ι everywhere on M) every fibre of the
+    actuators contains the ι-dimensional orbits of those freedoms, so the
+    second-order test must look for self-motions *beyond* them. I, the idle
+    directions at p̄, is the limit of ker G(q) at regular points q of M near
+    p̄: the ι leading eigenvectors of the mean of the projectors onto
+    ker G(q) over `neighbours` (the ι smallest right singular vectors of
+    E^½Dπ at q), projected onto T_p̄M. On the slice, G has no
+    idle freedom, and p̄ is isolated in the slice's fibre exactly when the
+    fibre of M near p̄ is the idle orbit of p̄: the test run on the slice
+    separates nondegenerate from degenerate (a self-motion on the slice is a
+    genuine finite motion with the actuators locked, other than the idle one).
+
+    Parameters
+    ----------
+    manifold : ImplicitManifold
+    point : ndarray, shape=[point_size]
+        p̄, a regular point of M.
+    basis : ndarray, shape=[k, m]
+        Orthonormal basis of T_p̄M.
+    neighbours : ndarray, shape=[n, point_size]
+        Points of M near p̄ (e.g. :attr:`manifold.LocalRank.neighbours`).
+    selection : ndarray, shape=[a, k]
+        Dπ (optionally weighted).
+    idle : int
+        ι, m minus the largest rank of G on M.
+    rtol : float
+        Rank cut of DΦ at the neighbours.
+
+    Returns
+    -------
+    slice : ImplicitManifold or None
+        None when no neighbour is a regular point of M.
+    directions : ndarray, shape=[k, ι]
+        I, orthonormal.
+    """
+    expected = basis.shape[1] - idle
+    projector = np.zeros((basis.shape[0],) * 2)
+    used = 0
+    for neighbour in neighbours:
+        tangent, _ = tangent_basis(manifold, neighbour, rtol=rtol)
+        if tangent.shape[1] != basis.shape[1]:
+            continue
+        # the ι smallest right singular vectors: G has rank ≤ m − ι everywhere, so they are exact
+        # kernel vectors, while the singularity's own small singular values grow with the distance
+        kernel = tangent @ np.linalg.svd(selection @ tangent, full_matrices=True)[2][expected:].T
+        projector += kernel @ kernel.T
+        used += 1
+    if not used:
+        return None, np.zeros((basis.shape[0], 0))
+    leading = np.linalg.eigh(projector / used)[1][:, ::-1][:, :idle]
+    directions = np.linalg.qr(basis @ (basis.T @ leading))[0]
+    ambient = manifold.ambient
+    base = np.asarray(point, dtype=float)
+
+    def constraint(q):
+        return np.concatenate([manifold.constraint(q), ambient.inverse_retract(base, q) @ directions], axis=-1)
+
+    def jacobian(q):
+        rows = np.broadcast_to(directions.T, np.shape(q)[:-1] + directions.T.shape)
+        return np.concatenate([manifold.constraint_jacobian(q), rows], axis=-2)
+
+    def hessian(q):
+        zeros = np.zeros(np.shape(q)[:-1] + (idle,) + (basis.shape[0],) * 2)
+        return np.concatenate([manifold.constraint_hessian(q), zeros], axis=-3)
+
+    return ImplicitManifold(ambient, constraint, jacobian, hessian, manifold.is_solution), directions
 
 
 def _smallest_common_value(forms, rng, starts=64):

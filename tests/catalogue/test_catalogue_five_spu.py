@@ -188,10 +188,10 @@ NAMED = {
     # name: (kinds, actuator rank, degeneracy)
     "regular": ((), 5, None),
     "regular_locked": ((), 5, None),
-    "eq33_w_zero": (("actuator",), 4, "undetermined"),
-    "eq33_second_factor": (("actuator",), 4, "undetermined"),
-    "eq35_vertical_tool": (("actuator",), 4, "undetermined"),
-    "sec3c_line_in_base": (("actuator",), 3, "undetermined"),
+    "eq33_w_zero": (("actuator",), 4, "nondegenerate"),
+    "eq33_second_factor": (("actuator",), 4, "nondegenerate"),
+    "eq35_vertical_tool": (("actuator",), 4, "nondegenerate"),
+    "sec3c_line_in_base": (("actuator",), 3, "nondegenerate"),
     "eq33_w_zero_locked": (("actuator",), 4, "nondegenerate"),
     "eq33_second_factor_locked": (("actuator",), 4, "nondegenerate"),
 }
@@ -200,9 +200,9 @@ NAMED = {
 @pytest.mark.parametrize("name", sorted(NAMED))
 def test_named_configurations(name):
     """003_…txt eq. (33) (w = 0; δ w pₓ − (δu − 1) p_z = 0), eq. (35) (tool ⟂ base: δ pₓ + p_z = 0),
-    Section III-C (Λ on Π: the trivial singularity, two leg wrenches lost). With the free spin the
-    second-order test is not run (idle freedom: "undetermined"); with it locked, both factors are
-    folds where two assembly modes of (29)/(31)-(32) merge (Δ = 0, Section V-B), i.e. nondegenerate.
+    Section III-C (Λ on Π: the trivial singularity, two leg wrenches lost). Both factors are folds
+    where two assembly modes of (29)/(31)-(32) merge (Δ = 0, Section V-B), i.e. nondegenerate —
+    with the spin locked, and with it free (the test then runs on a slice transverse to the spin).
     Section I, Fig. 1: five controllable dof and a free rotation about the tool line, unless one
     aligned revolute is blocked: m = 6 with G of rank 5 everywhere (one idle freedom), or m = 5."""
     kinds, rank, degeneracy = NAMED[name]
@@ -218,6 +218,17 @@ def test_named_configurations(name):
     assert report.moving_idle_freedoms == report.idle_freedoms
     assert report.survey["actuator_rank"] == 5
     assert report.end_effector.rank == report.dof  # the platform pose follows every motion, the spin included
+
+
+@pytest.mark.parametrize("factor", ["eq33_w_zero", "eq33_second_factor"])
+def test_the_free_spin_does_not_change_the_second_order_verdict(factor):
+    """Locking the spin (Section I) removes the idle freedom but not the singularity: the free
+    spin's second-order test, run on a slice transverse to the spin, matches the locked one."""
+    free = classified(ENTRY.mechanism(factor))
+    locked = classified(ENTRY.mechanism(factor + "_locked"))
+    assert free.degeneracy == locked.degeneracy == "nondegenerate"
+    assert any("slice" in note for note in free.notes)
+    assert free.second_order.smallest == pytest.approx(locked.second_order.smallest, rel=0.05)
 
 
 # ----------------------------------------------------------------------------- the paper's polynomials
