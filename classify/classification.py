@@ -144,7 +144,7 @@ def classify(mechanism, point, survey=None, rng=None, rtol=DEFAULT_RTOL, length_
             else:
                 tested_basis = tangent_basis(tested, point, rtol=rtol)[0]
                 notes.append(f"second-order test on a slice of M through p transverse to the {idle} idle "
-                             f"freedom(s) (their directions: the limit of ker G at regular neighbours)")
+                             f"freedom(s) (their directions: the limit of ker G at neighbours on M)")
         if tested is not None:
             second = second_order_test(tested, point, tested_basis, weighted, rng, rtol=rtol,
                                        scale=actuator_scale)
