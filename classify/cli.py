@@ -109,18 +109,23 @@ def _check_length_scale(value):
         raise InputError(f"--length-scale: expected a positive finite number, got {value}")
 
 
-def _catalogue_mechanism(name, configuration_name, parameters):
-    """The mechanism of a catalogue entry with `--param` texts applied."""
-    item = catalogue.entry(name)
-    values = dict(catalogue.parse_parameter(item, text) for text in parameters)
-    return item.mechanism(configuration_name, **values)
+def _is_entry(text):
+    """Whether a FILE|NAME argument names a catalogue entry (an existing path always wins)."""
+    return text in catalogue.names() and not Path(text).exists()
+
+
+def _entry_values(item, arguments):
+    """The entry's parameters: defaults, then the --configuration presets, then the --param texts."""
+    return item.values(arguments.configuration,
+                       **dict(catalogue.parse_parameter(item, text) for text in arguments.param))
 
 
 def _source(arguments):
     """(mechanism, displacements of the named configuration) for FILE or catalogue NAME."""
+    if _is_entry(arguments.file):
+        item = catalogue.entry(arguments.file)
+        return item.build(**_entry_values(item, arguments)), {}
     path = Path(arguments.file)
-    if not path.exists() and arguments.file in catalogue.names():
-        return _catalogue_mechanism(arguments.file, arguments.configuration, arguments.param), {}
     if not path.exists() and path.suffix not in MECHANISM_SUFFIXES:
         raise InputError(f"{arguments.file}: no such file or catalogue entry (see `closedchain catalog`)")
     if arguments.param:
@@ -176,8 +181,7 @@ def _run_catalog(arguments, out):
                 out.write(f"{'':{width}}  configurations: {', '.join(item.configurations)}\n")
         return
     item = catalogue.entry(arguments.name)
-    values = item.values(arguments.configuration,
-                         **dict(catalogue.parse_parameter(item, text) for text in arguments.param))
+    values = _entry_values(item, arguments)
     mechanism = item.build(**values)
     if arguments.write:
         save(mechanism, arguments.write, description=_entry_description(item, arguments.configuration, values))
@@ -268,11 +272,8 @@ def _catalogue_reports(items, arguments):
 
 def _run_report(arguments, out):
     _check_length_scale(arguments.length_scale)
-    def is_entry(text):
-        return text in catalogue.names() and not Path(text).exists()
-
-    names = [text for text in arguments.paths if is_entry(text)] if arguments.paths else catalogue.names()
-    paths = [text for text in arguments.paths if not is_entry(text)]
+    names = [text for text in arguments.paths if _is_entry(text)] if arguments.paths else catalogue.names()
+    paths = [text for text in arguments.paths if not _is_entry(text)]
     reports = list(_catalogue_reports(map(catalogue.entry, names), arguments))
     if paths:
         reports += list(_file_reports(paths, arguments))

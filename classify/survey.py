@@ -93,12 +93,13 @@ def survey(model, rng, starts=None, random_count=24, walk_count=24, rtol=DEFAULT
     end_effector_rank = joint_rank = None
     if model.end_effector_dimension > 0:
         root = metric_root(model.end_effector_metric)
-        jacobians = [root @ model.end_effector_jacobian(point) for point in points]
-        end_effector_rank = max((numerical_rank(jacobian @ basis, rtol=rtol, scale=np.linalg.norm(jacobian, 2)).rank
-                                 for jacobian, basis in zip(jacobians, bases)), default=0)
         actuator_unit = actuators / actuator_scale if actuator_scale else actuators
-        joint_rank = max((numerical_rank(np.vstack([actuator_unit @ basis,
-                                                    jacobian @ basis / max(np.linalg.norm(jacobian, 2), 1e-300)]),
-                                         rtol=rtol, scale=1.0).rank
-                          for jacobian, basis in zip(jacobians, bases)), default=0)
+        end_effector_rank = joint_rank = 0
+        for point, basis in zip(points, bases):
+            jacobian = root @ model.end_effector_jacobian(point)
+            scale = float(np.linalg.norm(jacobian, 2))
+            end_effector_rank = max(end_effector_rank,
+                                    numerical_rank(jacobian @ basis, rtol=rtol, scale=scale).rank)
+            stacked = np.vstack([actuator_unit @ basis, jacobian @ basis / max(scale, 1e-300)])
+            joint_rank = max(joint_rank, numerical_rank(stacked, rtol=rtol, scale=1.0).rank)
     return Survey(len(points), constraint_rank, actuator_rank, end_effector_rank, joint_rank)
