@@ -9,19 +9,21 @@ the five-bar, and both are classified by the same code.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Callable, Optional
 
 import numpy as np
 
 from manifold import ImplicitManifold
 from mechanisms import (
-    configuration_space, end_effector_dimension, end_effector_jacobian, home, to_displacements,
+    actuate, configuration_space, end_effector_dimension, end_effector_jacobian, home, to_displacements,
 )
+
+from mechanisms.joints import joint_coordinate_names
 
 from .metrics import end_effector_metric, weighted_actuator_jacobian
 
-__all__ = ["Model", "model_of"]
+__all__ = ["Model", "model_of", "joint_output_model"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -82,3 +84,41 @@ def model_of(mechanism, length_scale=None):
         end_effector_metric=end_effector_metric(mechanism, length_scale) if has_end_effector else None,
         describe=lambda point: to_displacements(mechanism, point),
     )
+
+
+def joint_output_model(mechanism, joint_names, where="outputs"):
+    """The :class:`Model` of a mechanism whose outputs are joint coordinates (metric H = identity).
+
+    Gosselin & Angeles allow outputs that are "joint angles or displacements"
+    (`000_cb500b1ffad40f57.txt`, Section II): the slider's displacement of the
+    RRRP (eq. 9), the output angle φ of the Watt linkage (eq. 31).
+
+    Parameters
+    ----------
+    mechanism : Mechanism
+    joint_names : sequence of str
+        The output joints; their coordinates, in order, are the outputs.
+    where : str
+        Field name for error messages.
+
+    Returns
+    -------
+    Model
+    """
+    order = list(joint_names)
+    actuate(mechanism, order, where=where)  # validates the names
+    rows = []
+    start = 0
+    for joint in mechanism.joints:
+        size = len(joint_coordinate_names(joint))
+        if joint.name in order:
+            rows.append((order.index(joint.name), start, size))
+        start += size
+    selection = np.zeros((sum(size for _, _, size in rows), mechanism.ambient_dimension))
+    row = 0
+    for _, start, size in sorted(rows):
+        selection[row:row + size, start:start + size] = np.eye(size)
+        row += size
+    base = model_of(mechanism)
+    return replace(base, end_effector_jacobian=lambda point: selection,
+                   end_effector_metric=np.eye(selection.shape[0]))

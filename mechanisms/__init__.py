@@ -5,6 +5,7 @@ constraint map Φ with analytic DΦ, D²Φ, the actuator projection π and the
 end-effector map f with Df, D²f. Never imports :mod:`classify`.
 """
 
+from .actuation import actuate
 from .configuration import (
     CLOSURE_TOLERANCE, Projected, configuration, from_displacements, home,
     to_displacements, validate_displacements,
@@ -22,6 +23,7 @@ from .mechanism import Mechanism
 from .rehome import flip_axis, move_base, rehome
 
 __all__ = [
+    "actuate",
     "CLOSURE_TOLERANCE", "Projected", "configuration", "from_displacements", "home",
     "to_displacements", "validate_displacements",
     "ConfigurationError", "MechanismError",

@@ -1,0 +1,377 @@
+"""Park–Kim and Gosselin–Angeles side by side, with every disagreement explained.
+
+The correspondence (DESIGN.md, "Gosselin–Angeles"): G–A kind I (det B = 0)
+↔ an end-effector singularity, kind II (det A = 0) ↔ an actuator
+singularity, kind III (both) ↔ both, or a C-space singularity. Where the two
+differ, or G–A is not defined, the row carries one reason of :data:`REASONS`,
+a closed list; ``"unexplained"`` is reserved for anything else and the test
+suite requires that it never occurs on the catalogue.
+
+Gosselin & Angeles call a configuration "third kind" when, for special
+architectures, the chain has a finite motion with the actuators locked
+(`000_cb500b1ffad40f57.txt`, Section II, item 3; eq. 87); with their own
+matrices det B need not vanish there (eq. 83), so such a configuration is
+kind II here and Park–Kim's *degenerate* actuator singularity, which the row's
+note points out.
+"""
+
+from __future__ import annotations
+
+from collections import Counter
+from dataclasses import dataclass
+from typing import Callable, Optional
+
+import numpy as np
+
+from manifold import DEFAULT_RTOL, continue_curve, sample_manifold, tangent_basis
+from mechanisms import Mechanism
+
+from .classification import classify
+from .gosselin_angeles import GA_KINDS, derived_gosselin_angeles, gosselin_angeles
+from .model import model_of
+from .survey import survey as survey_model
+
+__all__ = ["REASONS", "expected_kinds", "correspondence", "ComparisonRow", "Comparison", "compare",
+           "sample_configurations", "path_configurations"]
+
+#: the closed list of reasons for a disagreement (or an undefined G–A classification)
+REASONS = {
+    "redundant_actuation": "more actuated coordinates than degrees of freedom: G–A's B is not square, so "
+                           "kinds I–III are not defined; Park–Kim's semidefinite E handles it",
+    "unequal_dimensions": "inputs and outputs differ in number: G–A needs n of each",
+    "idle_freedom": "a freedom the inputs do not control moves the outputs everywhere on M: "
+                    "{(Dπ T u, J u)} has dimension above n, no n×n A and B describe it",
+    "stationary_motion": "a motion of M moves neither inputs nor outputs here: {(Dπ T u, J u)} has "
+                         "dimension below n and does not determine A and B",
+    "cspace_singularity": "C-space singularity: ker DΦ(p) is larger than the tangent spaces of M nearby, "
+                          "so the derived A and B are not defined (or a given F does not show kind III)",
+    "not_differentiable": "the given F is not differentiable here (A or B is not finite): a branch point "
+                          "of its ± roots",
+    "degenerate_relation": "the given F has a degenerate differential ([B A] of rank below n) where the "
+                           "C-space is smooth: squared or factored terms make det A = det B = 0 spuriously",
+    "inconsistent_relation": "the given F does not describe this configuration: [B A] does not annihilate "
+                             "the mechanism's velocities (another branch, or another mechanism)",
+    "numerical_margin": "the two rank decisions differ only within a factor 100 of the cut",
+}
+
+#: the relative defect ‖[B A] v‖ / ‖v‖ above which a given F does not describe the mechanism
+CONSISTENCY_TOLERANCE = 1e-4
+
+
+def expected_kinds(report):
+    """The G–A kinds that correspond to a Park–Kim report.
+
+    Parameters
+    ----------
+    report : Report
+
+    Returns
+    -------
+    tuple of str
+        I if end-effector singular, II if actuator singular, III if both;
+        all three at a C-space singularity.
+    """
+    kinds = set(report.kinds)
+    if "cspace" in kinds:
+        return GA_KINDS
+    first, second = "end_effector" in kinds, "actuator" in kinds
+    return tuple(kind for kind, holds in zip(GA_KINDS, (first, second, first and second)) if holds)
+
+
+def _near_cut(decision, factor=100.0):
+    if decision is None:
+        return False
+    values = np.asarray(decision.singular_values)
+    cut = decision.tolerance
+    return bool(np.any((values > cut / factor) & (values < cut * factor)))
+
+
+def correspondence(report, result, consistent=True):
+    """Whether a Park–Kim report and a G–A classification correspond, and why not.
+
+    Parameters
+    ----------
+    report : Report
+    result : GosselinAngeles
+    consistent : bool
+        False when a given F was found not to annihilate the mechanism's
+        velocities at this configuration.
+
+    Returns
+    -------
+    agree : bool
+    reason : str or None
+        A key of :data:`REASONS`, ``"unexplained"``, or None when they agree.
+    note : str
+    """
+    expected = expected_kinds(report)
+    pk = ", ".join(report.kinds) or "regular"
+    if not result.defined:
+        if result.undefined == "not_finite":
+            reason = "not_differentiable"
+        elif result.n > report.dof:
+            reason = "redundant_actuation"
+        elif result.undefined == "not_square":
+            reason = "unequal_dimensions"
+        elif "cspace" in report.kinds:
+            reason = "cspace_singularity"
+        elif result.velocity_dimension is not None and result.velocity_dimension > result.n:
+            reason = "idle_freedom"
+        else:
+            reason = "stationary_motion"
+        return False, reason, f"G–A undefined ({result.detail}); Park–Kim: {pk}"
+    ga = ", ".join(result.kinds) or "regular"
+    if not consistent:
+        return False, "inconsistent_relation", f"F does not describe this configuration; G–A: {ga}; Park–Kim: {pk}"
+    if result.kinds == expected:
+        pieces = []
+        if "I" in result.kinds:
+            pieces.append("I ↔ end-effector")
+        if "II" in result.kinds:
+            pieces.append("II ↔ actuator" + (f" ({report.degeneracy})" if report.degeneracy else ""))
+        if "cspace" in report.kinds:
+            pieces = ["III ↔ C-space"]
+        if report.degeneracy == "degenerate" and "I" not in result.kinds:
+            pieces.append("a finite motion with the actuators locked: Gosselin–Angeles's 'third kind' in words, "
+                          "kind II by det A, det B")
+        return True, None, "; ".join(pieces) or "both regular"
+    note = f"G–A: {ga}; Park–Kim: {pk}"
+    if "cspace" in report.kinds:
+        return False, "cspace_singularity", note
+    if result.relation_decision is not None and result.relation_decision.rank < result.n:
+        return False, "degenerate_relation", note
+    decisions = [report.actuator.decision, None if report.end_effector is None else report.end_effector.decision,
+                 result.input_decision, result.output_decision]
+    if any(_near_cut(decision) for decision in decisions):
+        return False, "numerical_margin", note
+    return False, "unexplained", note
+
+
+@dataclass(frozen=True, eq=False)
+class ComparisonRow:
+    """Both classifications of one configuration."""
+
+    label: str
+    park_kim: object
+    gosselin_angeles: object
+    agree: bool
+    reason: Optional[str]
+    note: str
+
+    def to_dict(self):
+        return {"configuration": self.label, "park_kim": self.park_kim.to_dict(),
+                "gosselin_angeles": self.gosselin_angeles.to_dict(), "agree": bool(self.agree),
+                "reason": self.reason, "note": self.note}
+
+
+@dataclass(frozen=True, eq=False)
+class Comparison:
+    """A comparison over configurations of one mechanism.
+
+    Attributes
+    ----------
+    mechanism : str
+    inputs, outputs : tuple of str
+        Names of the input and output coordinates.
+    source : str
+        ``"derived"`` or the name of the given relation F.
+    rows : tuple of ComparisonRow
+    """
+
+    mechanism: str
+    inputs: tuple
+    outputs: tuple
+    source: str
+    rows: tuple
+
+    @property
+    def summary(self):
+        """Counts: configurations, agreements, disagreements by reason, kinds of each side."""
+        reasons = Counter(row.reason for row in self.rows if not row.agree)
+        park_kim = Counter(kind for row in self.rows for kind in row.park_kim.kinds)
+        ga = Counter(kind for row in self.rows for kind in row.gosselin_angeles.kinds)
+        return {
+            "configurations": len(self.rows),
+            "agree": sum(row.agree for row in self.rows),
+            "disagree": sum(not row.agree for row in self.rows),
+            "reasons": dict(sorted(reasons.items())),
+            "park_kim": {"regular": sum(not row.park_kim.kinds for row in self.rows), **dict(sorted(park_kim.items()))},
+            "gosselin_angeles": {
+                "regular": sum(row.gosselin_angeles.defined and not row.gosselin_angeles.kinds for row in self.rows),
+                "undefined": sum(not row.gosselin_angeles.defined for row in self.rows),
+                **{kind: ga[kind] for kind in GA_KINDS}},
+        }
+
+    def to_dict(self):
+        return {"mechanism": self.mechanism, "inputs": list(self.inputs), "outputs": list(self.outputs),
+                "gosselin_angeles_source": self.source,
+                "configurations": [row.to_dict() for row in self.rows], "summary": self.summary}
+
+    def to_text(self):
+        """A table, one row per configuration, then the summary and the reasons used."""
+        header = ("configuration", "Park–Kim", "G–A", "rank A", "rank B", "agree", "reason")
+        table = []
+        for row in self.rows:
+            report, ga = row.park_kim, row.gosselin_angeles
+            pk = ", ".join(report.kinds) or "regular"
+            if report.degeneracy:
+                pk += f" ({report.degeneracy})"
+            kinds = (", ".join(ga.kinds) or "regular") if ga.defined else "undefined"
+            rank = (lambda value: "-" if value is None else f"{value}/{ga.n}")
+            table.append((row.label, pk, kinds, rank(ga.rank_A), rank(ga.rank_B),
+                          "yes" if row.agree else "NO", row.reason or ""))
+        widths = [max(len(line[i]) for line in table + [header]) for i in range(len(header))]
+        lines = [f"{self.mechanism}: Park–Kim and Gosselin–Angeles ({self.source}); "
+                 f"inputs {', '.join(self.inputs)}; outputs {', '.join(self.outputs)}", ""]
+        lines += ["  ".join(cell.ljust(width) for cell, width in zip(line, widths)).rstrip()
+                  for line in [header] + table]
+        lines.insert(3, "  ".join("-" * width for width in widths))
+        summary = self.summary
+        lines += ["", f"{summary['agree']} of {summary['configurations']} configurations correspond; "
+                  f"{summary['disagree']} differ"]
+        for reason, count in summary["reasons"].items():
+            lines.append(f"  {count} × {reason}: {REASONS.get(reason, 'no reason from the closed list')}")
+        for row in self.rows:
+            if row.note and not row.agree:
+                lines.append(f"  [{row.label}] {row.note}")
+        return "\n".join(lines)
+
+
+def _relation_velocities(model, point, basis, coordinates, step=1e-6):
+    """``[dθ; dx] T`` by central differences of the user's coordinate map, shape=[2n, m]."""
+    ambient = model.manifold.ambient
+    columns = []
+    for column in basis.T:
+        plus = np.concatenate([np.ravel(value) for value in coordinates(ambient.retract(point, step * column))])
+        minus = np.concatenate([np.ravel(value) for value in coordinates(ambient.retract(point, -step * column))])
+        columns.append((plus - minus) / (2 * step))
+    return np.array(columns).T
+
+
+def _consistent(result, velocities):
+    """Whether the rows of [B A] annihilate the velocities (relative to their size)."""
+    if not result.defined or result.relation_decision is None or result.relation_decision.rank < result.n:
+        return True
+    rows = np.hstack([result.input_jacobian, result.output_jacobian])
+    rows = rows / np.linalg.norm(rows, axis=1, keepdims=True)
+    size = max(float(np.linalg.norm(velocities, 2)), 1e-300)
+    return float(np.linalg.norm(rows @ velocities, 2)) <= CONSISTENCY_TOLERANCE * size
+
+
+def compare(mechanism, points, labels=None, relation=None, coordinates=None, survey=None, rng=None,
+            rtol=DEFAULT_RTOL, length_scale=None, input_names=None, output_names=None):
+    """Classify configurations both ways and explain every difference.
+
+    Parameters
+    ----------
+    mechanism : Mechanism or Model
+        Its actuated coordinates are the inputs and its end-effector
+        coordinates the outputs.
+    points : array_like, shape=[count, point_size]
+        Configurations on M.
+    labels : sequence of str, optional
+        Default ``"0"``, ``"1"``, ….
+    relation : InputOutputRelation, optional
+        A given F; default the matrices derived from the mechanism.
+    coordinates : callable, optional
+        ``coordinates(point) -> (theta, x)``, the relation's variables at a
+        configuration; required with `relation`.
+    survey : Survey, optional
+        Shared by every configuration; computed from all `points` if not given.
+    rng : numpy.random.Generator, optional
+    rtol : float
+    length_scale : float, optional
+        For a Mechanism's SE(2)/SE(3) end-effector metric.
+    input_names, output_names : sequence of str, optional
+        Names for the report; default the relation's, or the actuated and
+        end-effector coordinates.
+
+    Returns
+    -------
+    Comparison
+    """
+    if relation is not None and coordinates is None:
+        raise ValueError("a given relation F needs `coordinates(point) -> (theta, x)`")
+    rng = np.random.default_rng(0) if rng is None else rng
+    model = model_of(mechanism, length_scale) if isinstance(mechanism, Mechanism) else mechanism
+    points = np.atleast_2d(np.asarray(points, dtype=float))
+    labels = [str(index) for index in range(len(points))] if labels is None else [str(label) for label in labels]
+    if len(labels) != len(points):
+        raise ValueError(f"{len(labels)} labels for {len(points)} configurations")
+    if survey is None:
+        survey = survey_model(model, rng, starts=np.concatenate([model.starts, points]), rtol=rtol)
+    rows = []
+    for label, point in zip(labels, points):
+        report = classify(model, point, survey=survey, rng=rng, rtol=rtol)
+        basis = tangent_basis(model.manifold, point, rtol=rtol)[0]
+        consistent = True
+        if relation is None:
+            result = derived_gosselin_angeles(model, point, basis, rtol=rtol)
+        else:
+            theta, x = coordinates(point)
+            result = gosselin_angeles(relation, theta, x, rtol=rtol)
+            if not ("cspace" in report.kinds):
+                consistent = _consistent(result, _relation_velocities(model, point, basis, coordinates))
+        agree, reason, note = correspondence(report, result, consistent)
+        rows.append(ComparisonRow(label, report, result, agree, reason, note))
+    names = model.coordinate_names
+    if input_names is None:
+        input_names = relation.input_names if relation is not None else tuple(
+            names[index] for index in np.flatnonzero(np.any(model.actuators != 0, axis=0)))
+    if output_names is None:
+        output_names = relation.output_names if relation is not None else tuple(
+            f"y{index + 1}" for index in range(model.end_effector_dimension))
+    return Comparison(model.name, tuple(input_names), tuple(output_names),
+                      "derived" if relation is None else relation.name, tuple(rows))
+
+
+def sample_configurations(model, count, rng, starts=None):
+    """Configurations spread over the assembly branches of M (:func:`manifold.sample_manifold`).
+
+    Parameters
+    ----------
+    model : Model
+    count : int
+    rng : numpy.random.Generator
+    starts : array_like, shape=[s, point_size], optional
+        Default ``model.starts``.
+
+    Returns
+    -------
+    points : ndarray, shape=[≤ count, point_size]
+    """
+    starts = model.starts if starts is None else np.atleast_2d(starts)
+    if count <= 0:
+        return np.zeros((0, starts.shape[1]))
+    points = sample_manifold(model.manifold, rng, starts, random_count=count, walk_count=count)[len(starts):]
+    chosen = rng.choice(len(points), size=min(count, len(points)), replace=False)
+    return points[np.sort(chosen)]
+
+
+def path_configurations(model, point, count, step=0.05, direction=None, rtol=DEFAULT_RTOL):
+    """Configurations along a curve of M through `point`, both ways (``count`` on each side at most).
+
+    Continues M along `direction` (default the first tangent direction at
+    `point`) with :func:`manifold.continue_curve`; for a one-degree-of-freedom
+    mechanism this is the path of the mechanism itself, through every fold of
+    its inputs or outputs.
+
+    Parameters
+    ----------
+    model : Model
+    point : ndarray, shape=[point_size]
+    count : int
+    step : float
+        Distance between successive configurations (coordinate scales).
+    direction : ndarray, shape=[k], optional
+    rtol : float
+
+    Returns
+    -------
+    points : ndarray, shape=[≤ 2 count + 1, point_size], in order along the path
+    """
+    if direction is None:
+        direction = tangent_basis(model.manifold, point, rtol=rtol)[0][:, 0]
+    sides = [continue_curve(model.manifold, point, sign * direction, length=count * step, step=step).points[1:]
+             for sign in (-1.0, 1.0)]
+    return np.concatenate([sides[0][::-1], np.asarray(point, dtype=float)[None], sides[1]])

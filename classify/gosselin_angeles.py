@@ -1,0 +1,394 @@
+"""The Gosselin–Angeles matrices A = ∂F/∂x, B = ∂F/∂θ and their kinds I, II, III.
+
+Gosselin & Angeles (`000_cb500b1ffad40f57.txt`, eqs. 1–5) relate n inputs θ
+(actuated coordinates) and n outputs x by F(θ, x) = 0, so that
+``A ẋ + B θ̇ = 0`` (eq. 2) with ``A = ∂F/∂x`` and ``B = ∂F/∂θ`` (eq. 3):
+
+* kind I:   det B = 0 (eq. 4), branches of the inverse problem meet;
+* kind II:  det A = 0 (eq. 5), branches of the direct problem meet;
+* kind III: both, here reported as ``("I", "II", "III")``, since the
+  conditions of kinds I and II both hold.
+
+The matrices come from a user's F (:func:`relation_from_sympy`,
+:func:`relation_from_callables`) or are derived from a mechanism
+(:func:`derived_gosselin_angeles`): at p ∈ M with an orthonormal basis T of
+T_pM, the velocities the mechanism allows are
+``V = {(Dπ T u, J u)} ⊂ ℝⁿ × ℝⁿ`` and the rows of ``[B A]`` span the
+annihilator of V. That annihilator has dimension n exactly when
+``dim V = n``; otherwise (C-space singularities, uncontrolled freedoms,
+redundant actuation, a motion moving neither inputs nor outputs) G–A is not
+defined at p and the result says why.
+
+Rank decisions (scale-aware, :func:`manifold.numerical_rank`): the rows of
+``[B A]`` are first normalised to unit length and, where they have rank n,
+replaced by an orthonormal basis of their span. Row operations change neither
+det A = 0 nor det B = 0, and after them the singular values of A and B do not
+depend on how F's rows were scaled or combined (for the derived matrices: on
+the basis T). The cut is ``rtol`` against 1, the norm of ``[B A]``.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Callable, Optional
+
+import numpy as np
+import sympy
+
+from manifold import DEFAULT_RTOL, RankDecision, numerical_rank
+
+from .metrics import metric_root
+
+__all__ = [
+    "GA_KINDS", "InputOutputRelation", "GosselinAngeles",
+    "relation_from_sympy", "relation_from_callables",
+    "kinds_of_matrices", "gosselin_angeles", "derived_gosselin_angeles",
+]
+
+#: the kinds of Gosselin & Angeles, in order
+GA_KINDS = ("I", "II", "III")
+
+
+@dataclass(frozen=True, eq=False)
+class InputOutputRelation:
+    """An input–output relation F(θ, x) = 0 with its Jacobians (G–A eqs. 1–3).
+
+    Attributes
+    ----------
+    name : str
+    input_names, output_names : tuple of str
+        θ and x, n of each.
+    jacobians : callable
+        ``jacobians(inputs, outputs) -> (B, A)`` for arrays of shape [n]:
+        ``B = ∂F/∂θ`` and ``A = ∂F/∂x``, each shape=[n, n].
+    residual : callable, optional
+        ``residual(inputs, outputs) -> F``, shape=[n]; None when only the
+        velocity relation (the paper's A and B) is known.
+    reference : str
+        Where the relation comes from (paper, equation).
+    """
+
+    name: str
+    input_names: tuple
+    output_names: tuple
+    jacobians: Callable
+    residual: Optional[Callable] = None
+    reference: str = ""
+
+    def __post_init__(self):
+        if len(self.input_names) != len(self.output_names):
+            raise ValueError(f"relation {self.name!r}: {len(self.input_names)} inputs but "
+                             f"{len(self.output_names)} outputs; Gosselin–Angeles needs n of each")
+
+    @property
+    def n(self):
+        return len(self.input_names)
+
+
+def _symbols(values, what):
+    symbols = tuple(values)
+    for symbol in symbols:
+        if not isinstance(symbol, sympy.Symbol):
+            raise TypeError(f"{what}: expected SymPy symbols, got {symbol!r}")
+    return symbols
+
+
+def _lambdified(matrix, arguments):
+    """A numpy function of ``arguments`` returning `matrix` as a float array (constants included)."""
+    function = sympy.lambdify(arguments, matrix, modules="numpy")
+
+    def evaluate(*values):
+        with np.errstate(all="ignore"):
+            return np.asarray(function(*values), dtype=float)
+    return evaluate
+
+
+def relation_from_sympy(inputs, outputs, equations=None, input_jacobian=None, output_jacobian=None,
+                        parameters=None, name="F", reference=""):
+    """A relation from SymPy expressions: F itself, or the paper's A and B directly.
+
+    Give either `equations` (F; A and B are its symbolic derivatives, eq. 3)
+    or both `input_jacobian` (B) and `output_jacobian` (A), as the paper
+    writes them when only the velocity relation ``A ẋ + B θ̇ = 0`` is printed
+    (e.g. eqs. 12, 44–48, 68–69, 81–83). Expressions are evaluated with
+    :func:`sympy.lambdify`; no text is ever parsed.
+
+    Parameters
+    ----------
+    inputs, outputs : sequence of sympy.Symbol
+        θ and x, n of each.
+    equations : sequence of sympy.Expr, optional
+        F, n expressions.
+    input_jacobian, output_jacobian : sympy.Matrix, optional
+        B and A, each n×n.
+    parameters : dict, optional
+        ``{symbol: value}`` substituted before evaluation (link lengths, branch signs).
+    name, reference : str
+
+    Returns
+    -------
+    InputOutputRelation
+
+    Raises
+    ------
+    ValueError
+        If the expressions contain a symbol that is neither an input, an
+        output nor a parameter, or if the shapes do not match.
+
+    Examples
+    --------
+    The slider-crank as Gosselin & Angeles write it (eq. 9, '+' branch):
+
+    >>> theta, x = sympy.symbols("theta x")
+    >>> R, l = 1.0, 2.0
+    >>> relation = relation_from_sympy(
+    ...     [theta], [x], equations=[x - R * sympy.cos(theta) - l * sympy.sqrt(1 - (R / l) ** 2 * sympy.sin(theta) ** 2)])
+    >>> gosselin_angeles(relation, [0.0], [3.0]).kinds
+    ('I',)
+    """
+    inputs, outputs = _symbols(inputs, "inputs"), _symbols(outputs, "outputs")
+    parameters = dict(parameters or {})
+    if equations is not None:
+        if input_jacobian is not None or output_jacobian is not None:
+            raise ValueError("give either the equations F or the Jacobians A and B, not both")
+        residual = sympy.Matrix(list(equations))
+        input_jacobian, output_jacobian = residual.jacobian(inputs), residual.jacobian(outputs)
+    elif input_jacobian is None or output_jacobian is None:
+        raise ValueError("give the equations F, or both Jacobians A (output_jacobian) and B (input_jacobian)")
+    else:
+        residual = None
+    input_jacobian, output_jacobian = sympy.Matrix(input_jacobian), sympy.Matrix(output_jacobian)
+    n = len(inputs)
+    for label, matrix in (("input_jacobian (B)", input_jacobian), ("output_jacobian (A)", output_jacobian)):
+        if matrix.shape != (n, len(outputs)) or n != len(outputs):
+            raise ValueError(f"{label}: expected shape ({n}, {n}) for {n} inputs and {len(outputs)} outputs, "
+                             f"got {matrix.shape}")
+    known = set(inputs) | set(outputs) | set(parameters)
+    pieces = [input_jacobian, output_jacobian] + ([residual] if residual is not None else [])
+    unknown = set().union(*(piece.free_symbols for piece in pieces)) - known
+    if unknown:
+        raise ValueError(f"relation {name!r}: symbols {sorted(map(str, unknown))} are neither inputs, outputs "
+                         f"nor parameters")
+    arguments = (list(inputs), list(outputs))
+    evaluate_b = _lambdified(input_jacobian.subs(parameters), arguments)
+    evaluate_a = _lambdified(output_jacobian.subs(parameters), arguments)
+    evaluate_f = None if residual is None else _lambdified(residual.subs(parameters), arguments)
+
+    def jacobians(theta, x):
+        return evaluate_b(list(theta), list(x)), evaluate_a(list(theta), list(x))
+
+    def residual_function(theta, x):
+        return evaluate_f(list(theta), list(x)).reshape(-1)
+
+    return InputOutputRelation(name, tuple(map(str, inputs)), tuple(map(str, outputs)), jacobians,
+                               None if residual is None else residual_function, reference)
+
+
+def relation_from_callables(input_names, output_names, input_jacobian, output_jacobian, residual=None,
+                            name="F", reference=""):
+    """A relation from Python callables: ``B(θ, x)``, ``A(θ, x)`` and optionally ``F(θ, x)``.
+
+    Parameters
+    ----------
+    input_names, output_names : sequence of str
+    input_jacobian, output_jacobian : callable
+        ``(theta, x) -> array, shape=[n, n]``, theta and x of shape [n].
+    residual : callable, optional
+        ``(theta, x) -> array, shape=[n]``.
+    name, reference : str
+
+    Returns
+    -------
+    InputOutputRelation
+    """
+    def jacobians(theta, x):
+        return (np.asarray(input_jacobian(theta, x), dtype=float),
+                np.asarray(output_jacobian(theta, x), dtype=float))
+    return InputOutputRelation(name, tuple(input_names), tuple(output_names), jacobians,
+                               residual, reference)
+
+
+@dataclass(frozen=True, eq=False)
+class GosselinAngeles:
+    """The G–A classification of one configuration.
+
+    Attributes
+    ----------
+    n : int
+        Number of inputs (and of outputs).
+    input_jacobian, output_jacobian : ndarray, shape=[n, n], or None
+        B and A as given (or derived); None where undefined.
+    input_decision, output_decision : RankDecision or None
+        Rank decisions of B and A after the row normalisation (module doc).
+    relation_decision : RankDecision or None
+        Rank decision of the normalised ``[B A]`` (n for a relation that is
+        a submersion; below n for a degenerate F).
+    undefined : str or None
+        Why G–A is not defined here: ``"not_square"`` (inputs ≠ outputs in
+        number), ``"not_finite"`` (A or B not finite: F not differentiable),
+        ``"subspace_dimension"`` (derived: the annihilator of V does not have
+        dimension n), else None.
+    detail : str
+        A sentence for the reader.
+    velocity_dimension : int or None
+        dim V for derived matrices.
+    """
+
+    n: int
+    input_jacobian: Optional[np.ndarray]
+    output_jacobian: Optional[np.ndarray]
+    input_decision: Optional[RankDecision]
+    output_decision: Optional[RankDecision]
+    relation_decision: Optional[RankDecision]
+    undefined: Optional[str] = None
+    detail: str = ""
+    velocity_dimension: Optional[int] = None
+
+    @property
+    def defined(self):
+        return self.undefined is None
+
+    @property
+    def rank_A(self):
+        return None if self.output_decision is None else self.output_decision.rank
+
+    @property
+    def rank_B(self):
+        return None if self.input_decision is None else self.input_decision.rank
+
+    @property
+    def kinds(self):
+        """A subset of ``("I", "II", "III")``; empty where regular or undefined."""
+        if not self.defined:
+            return ()
+        first, second = self.rank_B < self.n, self.rank_A < self.n
+        return tuple(kind for kind, holds in zip(GA_KINDS, (first, second, first and second)) if holds)
+
+    def to_dict(self):
+        """``kinds``, ``rank_A``, ``rank_B``, ``n`` (the contract of ``closedchain compare``) and details."""
+        def decision(value):
+            return None if value is None else value.to_dict()
+
+        def matrix(value):
+            return None if value is None else np.asarray(value, dtype=float).tolist()
+        return {
+            "kinds": list(self.kinds), "rank_A": self.rank_A, "rank_B": self.rank_B, "n": int(self.n),
+            "defined": self.defined, "undefined": self.undefined, "detail": self.detail,
+            "A": matrix(self.output_jacobian), "B": matrix(self.input_jacobian),
+            "A_decision": decision(self.output_decision), "B_decision": decision(self.input_decision),
+            "relation_decision": decision(self.relation_decision),
+            "velocity_dimension": self.velocity_dimension,
+        }
+
+
+def _undefined(n, reason, detail, velocity_dimension=None):
+    return GosselinAngeles(n, None, None, None, None, None, reason, detail, velocity_dimension)
+
+
+def kinds_of_matrices(input_jacobian, output_jacobian, rtol=DEFAULT_RTOL):
+    """Classify given matrices B (∂F/∂θ) and A (∂F/∂x), eqs. 4–5.
+
+    Parameters
+    ----------
+    input_jacobian, output_jacobian : array_like, shape=[n, n]
+        B and A.
+    rtol : float
+        Relative cut of the rank decisions (module doc).
+
+    Returns
+    -------
+    GosselinAngeles
+    """
+    b = np.atleast_2d(np.asarray(input_jacobian, dtype=float))
+    a = np.atleast_2d(np.asarray(output_jacobian, dtype=float))
+    n = b.shape[0]
+    if b.shape != (n, n) or a.shape != (n, n):
+        return _undefined(n, "not_square", f"B has shape {b.shape} and A {a.shape}: G–A needs n×n matrices")
+    if not (np.all(np.isfinite(a)) and np.all(np.isfinite(b))):
+        return GosselinAngeles(n, b, a, None, None, None, "not_finite",
+                               "A or B is not finite here: F is not differentiable (a branch point of its "
+                               "roots, eq. 9's ±√)")
+    rows = np.hstack([b, a])
+    lengths = np.linalg.norm(rows, axis=1)
+    normalised = rows / np.where(lengths > 0, lengths, 1.0)[:, None]
+    relation = numerical_rank(normalised, rtol=rtol, scale=1.0)
+    if relation.rank == n:
+        normalised = np.linalg.svd(normalised, full_matrices=False)[2][:n]
+    detail = "" if relation.rank == n else (f"[B A] has rank {relation.rank} < {n}: F's differential is "
+                                            f"degenerate, so det A = det B = 0")
+    return GosselinAngeles(n, b, a, numerical_rank(normalised[:, :n], rtol=rtol, scale=1.0),
+                           numerical_rank(normalised[:, n:], rtol=rtol, scale=1.0), relation, None, detail)
+
+
+def gosselin_angeles(relation, inputs, outputs, rtol=DEFAULT_RTOL):
+    """Classify one configuration (θ, x) with a given relation F (eqs. 3–5).
+
+    Parameters
+    ----------
+    relation : InputOutputRelation
+    inputs, outputs : array_like, shape=[n]
+        θ and x.
+    rtol : float
+
+    Returns
+    -------
+    GosselinAngeles
+    """
+    inputs, outputs = np.asarray(inputs, dtype=float), np.asarray(outputs, dtype=float)
+    if inputs.shape != (relation.n,) or outputs.shape != (relation.n,):
+        raise ValueError(f"relation {relation.name!r}: expected {relation.n} inputs and outputs, got shapes "
+                         f"{inputs.shape} and {outputs.shape}")
+    b, a = relation.jacobians(inputs, outputs)
+    return kinds_of_matrices(b, a, rtol=rtol)
+
+
+def derived_gosselin_angeles(model, point, basis, rtol=DEFAULT_RTOL):
+    """A and B derived from a mechanism at p: ``[B A]`` spans the annihilator of V (module doc).
+
+    With ``P = E^½ Dπ T`` (a×m) and ``Q = H^½ Df T`` (n×m), each divided by
+    the largest singular value of its unrestricted map (as in the survey),
+    ``V = range [P; Q]``. Its left null space, with orthonormal rows, is
+    ``[B A]`` in those weighted coordinates; multiplying by ``E^½`` and
+    ``H^½`` gives A and B in the mechanism's coordinates (same ranks). A
+    change of basis T (``T → T R``) leaves V, hence A and B, unchanged.
+
+    Parameters
+    ----------
+    model : Model
+    point : ndarray, shape=[point_size]
+    basis : ndarray, shape=[k, m]
+        Orthonormal basis of T_pM (ker DΦ(p) at a C-space singularity).
+    rtol : float
+
+    Returns
+    -------
+    GosselinAngeles
+        Undefined (``"not_square"``) when the numbers of inputs and outputs
+        differ, (``"subspace_dimension"``) when dim V ≠ n.
+    """
+    actuators = model.actuators
+    count_inputs, count_outputs = actuators.shape[0], model.end_effector_dimension
+    if count_inputs != count_outputs:
+        return _undefined(count_inputs, "not_square",
+                          f"{count_inputs} inputs and {count_outputs} outputs: [B A] would be "
+                          f"{count_outputs + count_inputs - basis.shape[1]}×{count_inputs + count_outputs}, "
+                          f"not n×2n")
+    n = count_inputs
+    root = metric_root(model.end_effector_metric)
+    full_outputs = root @ model.end_effector_jacobian(point)
+    input_scale = float(np.linalg.norm(actuators, 2)) or 1.0
+    output_scale = float(np.linalg.norm(full_outputs, 2)) or 1.0
+    stacked = np.vstack([actuators @ basis / input_scale, full_outputs @ basis / output_scale])
+    velocities = numerical_rank(stacked, rtol=rtol, scale=1.0)
+    if velocities.rank != n:
+        return _undefined(n, "subspace_dimension",
+                          f"V = {{(Dπ T u, J u)}} has dimension {velocities.rank}, not {n}: its annihilator "
+                          f"is not spanned by n rows [B A]", velocities.rank)
+    left = np.linalg.svd(stacked, full_matrices=True)[0][:, n:].T
+    weighted_b, weighted_a = left[:, :n], left[:, n:]
+    # back to the mechanism's coordinates: rows annihilate (E^½ θ̇ / s_a, H^½ ẋ / s_j)
+    input_root = np.diag(np.sqrt(np.sum(actuators ** 2, axis=1)))
+    b = weighted_b @ input_root / input_scale
+    a = weighted_a @ root / output_scale
+    return GosselinAngeles(n, b, a, numerical_rank(weighted_b, rtol=rtol, scale=1.0),
+                           numerical_rank(weighted_a, rtol=rtol, scale=1.0), velocities, None, "", n)
