@@ -6,7 +6,9 @@ mechanism file or of a catalogue entry; ``closedchain report [PATH ...]``
 classifies every mechanism file under the paths (default: every catalogue
 entry) at its home and at each of its named configurations and prints a table;
 ``closedchain catalog [NAME] [--write FILE]`` lists the catalogue, describes an
-entry, or writes it as a mechanism file.
+entry, or writes it as a mechanism file; ``closedchain compare FILE|NAME [--at …]
+[--inputs J1,J5] [--outputs …] [--samples N] [--path N]`` classifies configurations
+both the Park–Kim and the Gosselin–Angeles way and explains every difference.
 
 Exit status: 0 done (singular or not), 2 bad input (one line on stderr), 1 an
 internal error.
@@ -19,16 +21,18 @@ import json
 import os
 import sys
 import traceback
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
 
-from mechanisms import ConfigurationError, MechanismError, configuration, home
+from mechanisms import ConfigurationError, MechanismError, actuate, configuration, home
 from mechanisms import catalogue
 from mechanisms.io import read, save
 
 from .classification import classify
-from .model import model_of
+from .comparison import compare, path_configurations, sample_configurations
+from .model import joint_output_model, model_of
 from .survey import survey as survey_mechanism
 
 __all__ = ["main", "report_table"]
@@ -64,6 +68,25 @@ def _parser():
     many.add_argument("--output", default=None, help="also write the report to this file")
     many.add_argument("--format", choices=("json", "text"), default="text")
     _common_options(many)
+    both = commands.add_parser("compare", help="Park–Kim and Gosselin–Angeles side by side, with the reason "
+                                                "for every difference")
+    both.add_argument("file", metavar="FILE|NAME", help="mechanism file (YAML or JSON) or catalogue name")
+    _entry_options(both)
+    both.add_argument("--at", action="append", default=[], metavar="JSON",
+                      help="a configuration: joint displacements from home as JSON or @file.json (repeatable)")
+    both.add_argument("--project", action="store_true",
+                      help="project configurations that do not close onto the C-space")
+    both.add_argument("--inputs", default=None, metavar="J1,J2",
+                      help="the driven joints, comma-separated (default: the mechanism's actuated joints)")
+    both.add_argument("--outputs", default=None, metavar="J3,J4",
+                      help="output joints, comma-separated: their coordinates are the outputs "
+                           "(default: the end-effector's coordinates)")
+    both.add_argument("--samples", type=int, default=8, metavar="N",
+                      help="also compare N configurations sampled over the assembly branches (default 8)")
+    both.add_argument("--path", type=int, default=0, metavar="N",
+                      help="also compare up to N configurations each way along a curve of M through the home")
+    both.add_argument("--format", choices=("json", "text"), default="text")
+    _common_options(both)
     listing = commands.add_parser("catalog", help="list the catalogue, describe an entry or write it to a file")
     listing.add_argument("name", nargs="?", default=None, help="catalogue name (default: list them all)")
     _entry_options(listing)
@@ -163,6 +186,56 @@ def _entry_description(item, configuration_name, values):
     at = f" at {configuration_name}" if configuration_name else ""
     return (f"closedchain catalogue entry {item.name}{at}: {item.summary} "
             f"From {item.reference}. Parameters: {settings}.")
+
+
+def _joint_list(text, where):
+    names = [name.strip() for name in text.split(",")]
+    if not all(names):
+        raise InputError(f"{where}: expected comma-separated joint names, got {text!r}")
+    return names
+
+
+def _run_compare(arguments, out):
+    _check_length_scale(arguments.length_scale)
+    for option in ("samples", "path"):
+        if getattr(arguments, option) < 0:
+            raise InputError(f"--{option}: expected a count ≥ 0, got {getattr(arguments, option)}")
+    mechanism, named = _source(arguments)
+    if arguments.inputs is not None:
+        mechanism = actuate(mechanism, _joint_list(arguments.inputs, "--inputs"), where="--inputs")
+    output_names = None
+    if arguments.outputs is not None:
+        outputs = _joint_list(arguments.outputs, "--outputs")
+        model = joint_output_model(mechanism, outputs, where="--outputs")
+        output_names = tuple(name for joint in outputs for name in model.coordinate_names
+                             if name == joint or name.startswith(joint + "."))
+    elif mechanism.end_effector is None:
+        raise InputError(f"--outputs: {mechanism.name!r} has no end-effector; name the output joints")
+    else:
+        model = model_of(mechanism, arguments.length_scale)
+    if not len(model.actuators):
+        raise InputError(f"--inputs: {mechanism.name!r} has no actuated joint; name the input joints")
+    labels, points = ["home"], [configuration(mechanism, named, where="--configuration").point]
+    for index, text in enumerate(arguments.at, start=1):
+        projected = configuration(mechanism, {**named, **_displacements(text)}, project_onto=arguments.project,
+                                  where="--at")
+        labels.append(f"at{index}")
+        points.append(projected.point)
+    rng = np.random.default_rng(arguments.seed)
+    model = replace(model, starts=np.stack(points))
+    if arguments.path:
+        path, steps = path_configurations(model, points[0], arguments.path)
+        labels += [f"path{step:+d}" for step in steps if step]
+        points += [point for point, step in zip(path, steps) if step]
+    samples = sample_configurations(model, arguments.samples, rng)
+    labels += [f"sample{index}" for index in range(1, len(samples) + 1)]
+    points += list(samples)
+    print(f"comparing {len(points)} configurations of {mechanism.name}", file=sys.stderr)
+    result = compare(model, np.stack(points), labels, rng=rng, output_names=output_names)
+    if arguments.format == "json":
+        out.write(json.dumps(result.to_dict(), indent=2, ensure_ascii=False) + "\n")
+    else:
+        out.write(result.to_text() + "\n")
 
 
 def _run_catalog(arguments, out):
@@ -294,7 +367,8 @@ def main(argv=None, out=None):
     out = sys.stdout if out is None else out
     try:
         arguments = _parser().parse_args(argv)
-        {"classify": _run_classify, "report": _run_report, "catalog": _run_catalog}[arguments.command](
+        {"classify": _run_classify, "report": _run_report, "catalog": _run_catalog,
+         "compare": _run_compare}[arguments.command](
             arguments, out)
         return 0
     except (InputError, MechanismError, ConfigurationError) as error:

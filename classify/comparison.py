@@ -39,8 +39,9 @@ REASONS = {
     "redundant_actuation": "more actuated coordinates than degrees of freedom: G–A's B is not square, so "
                            "kinds I–III are not defined; Park–Kim's semidefinite E handles it",
     "unequal_dimensions": "inputs and outputs differ in number: G–A needs n of each",
-    "idle_freedom": "a freedom the inputs do not control moves the outputs everywhere on M: "
-                    "{(Dπ T u, J u)} has dimension above n, no n×n A and B describe it",
+    "idle_freedom": "a freedom the inputs do not control moves the outputs everywhere on M (an architecture "
+                    "singularity, e.g. G–A eq. 87's similar hexagons): Park–Kim counts it as an idle freedom, "
+                    "G–A sees det A = 0 everywhere, or no n×n A and B at all",
     "stationary_motion": "a motion of M moves neither inputs nor outputs here: {(Dπ T u, J u)} has "
                          "dimension below n and does not determine A and B",
     "cspace_singularity": "C-space singularity: ker DΦ(p) is larger than the tangent spaces of M nearby, "
@@ -138,6 +139,8 @@ def correspondence(report, result, consistent=True):
     note = f"G–A: {ga}; Park–Kim: {pk}"
     if "cspace" in report.kinds:
         return False, "cspace_singularity", note
+    if report.moving_idle_freedoms and "II" in result.kinds and "actuator" not in report.kinds:
+        return False, "idle_freedom", note
     if result.relation_decision is not None and result.relation_decision.rank < result.n:
         return False, "degenerate_relation", note
     decisions = [report.actuator.decision, None if report.end_effector is None else report.end_effector.decision,
@@ -231,9 +234,12 @@ class Comparison:
                   f"{summary['disagree']} differ"]
         for reason, count in summary["reasons"].items():
             lines.append(f"  {count} × {reason}: {REASONS.get(reason, 'no reason from the closed list')}")
+        notes = {}
         for row in self.rows:
             if row.note and not row.agree:
-                lines.append(f"  [{row.label}] {row.note}")
+                notes.setdefault(row.note, []).append(row.label)
+        for note, where in notes.items():
+            lines.append(f"  [{', '.join(where)}] {note}")
         return "\n".join(lines)
 
 
@@ -246,6 +252,24 @@ def _relation_velocities(model, point, basis, coordinates, step=1e-6):
         minus = np.concatenate([np.ravel(value) for value in coordinates(ambient.retract(point, -step * column))])
         columns.append((plus - minus) / (2 * step))
     return np.array(columns).T
+
+
+def _row_scales(relation, model, point, basis, coordinates, theta, x, step=1e-2):
+    """The size of each row of F's [B A] around p: its largest norm at p and at p ± step along T.
+
+    A row that vanishes at p but not around it (F written with squared or
+    factored terms) is then seen as zero by the relative cut.
+    """
+    ambient = model.manifold.ambient
+    sizes = [np.linalg.norm(np.hstack(relation.jacobians(theta, x)), axis=1)]
+    for column in basis.T:
+        for sign in (-1.0, 1.0):
+            near_theta, near_x = coordinates(ambient.retract(point, sign * step * column))
+            with np.errstate(all="ignore"):
+                sizes.append(np.linalg.norm(np.hstack(relation.jacobians(np.asarray(near_theta, dtype=float),
+                                                                        np.asarray(near_x, dtype=float))), axis=1))
+    sizes = np.array(sizes)
+    return np.max(np.where(np.isfinite(sizes), sizes, 0.0), axis=0)
 
 
 def _consistent(result, velocities):
@@ -309,7 +333,8 @@ def compare(mechanism, points, labels=None, relation=None, coordinates=None, sur
             result = derived_gosselin_angeles(model, point, basis, rtol=rtol)
         else:
             theta, x = coordinates(point)
-            result = gosselin_angeles(relation, theta, x, rtol=rtol)
+            scales = _row_scales(relation, model, point, basis, coordinates, theta, x)
+            result = gosselin_angeles(relation, theta, x, rtol=rtol, row_scales=scales)
             if not ("cspace" in report.kinds):
                 consistent = _consistent(result, _relation_velocities(model, point, basis, coordinates))
         agree, reason, note = correspondence(report, result, consistent)
@@ -368,10 +393,15 @@ def path_configurations(model, point, count, step=0.05, direction=None, rtol=DEF
 
     Returns
     -------
-    points : ndarray, shape=[≤ 2 count + 1, point_size], in order along the path
+    points : ndarray, shape=[≤ 2 count + 1, point_size]
+        In order along the path.
+    steps : ndarray of int, shape=[≤ 2 count + 1]
+        Signed index of each point along the path (0 at `point`).
     """
     if direction is None:
         direction = tangent_basis(model.manifold, point, rtol=rtol)[0][:, 0]
     sides = [continue_curve(model.manifold, point, sign * direction, length=count * step, step=step).points[1:]
-             for sign in (-1.0, 1.0)]
-    return np.concatenate([sides[0][::-1], np.asarray(point, dtype=float)[None], sides[1]])
+             [:count] for sign in (-1.0, 1.0)]
+    points = np.concatenate([sides[0][::-1], np.asarray(point, dtype=float)[None], sides[1]])
+    steps = np.arange(-len(sides[0]), len(sides[1]) + 1)
+    return points, steps

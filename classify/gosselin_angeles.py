@@ -285,7 +285,7 @@ def _undefined(n, reason, detail, velocity_dimension=None):
     return GosselinAngeles(n, None, None, None, None, None, reason, detail, velocity_dimension)
 
 
-def kinds_of_matrices(input_jacobian, output_jacobian, rtol=DEFAULT_RTOL):
+def kinds_of_matrices(input_jacobian, output_jacobian, rtol=DEFAULT_RTOL, row_scales=None):
     """Classify given matrices B (∂F/∂θ) and A (∂F/∂x), eqs. 4–5.
 
     Parameters
@@ -294,6 +294,11 @@ def kinds_of_matrices(input_jacobian, output_jacobian, rtol=DEFAULT_RTOL):
         B and A.
     rtol : float
         Relative cut of the rank decisions (module doc).
+    row_scales : array_like, shape=[n], optional
+        Reference size of each row of ``[B A]`` (e.g. its largest norm near
+        the configuration). Rows are divided by it, so a row that vanishes
+        here (F = g², or F = g·h with g = h = 0) is seen as zero. Default:
+        each row's own norm (a row that is exactly zero stays zero).
 
     Returns
     -------
@@ -309,7 +314,7 @@ def kinds_of_matrices(input_jacobian, output_jacobian, rtol=DEFAULT_RTOL):
                                "A or B is not finite here: F is not differentiable (a branch point of its "
                                "roots, eq. 9's ±√)")
     rows = np.hstack([b, a])
-    lengths = np.linalg.norm(rows, axis=1)
+    lengths = np.linalg.norm(rows, axis=1) if row_scales is None else np.asarray(row_scales, dtype=float)
     normalised = rows / np.where(lengths > 0, lengths, 1.0)[:, None]
     relation = numerical_rank(normalised, rtol=rtol, scale=1.0)
     if relation.rank == n:
@@ -320,7 +325,7 @@ def kinds_of_matrices(input_jacobian, output_jacobian, rtol=DEFAULT_RTOL):
                            numerical_rank(normalised[:, n:], rtol=rtol, scale=1.0), relation, None, detail)
 
 
-def gosselin_angeles(relation, inputs, outputs, rtol=DEFAULT_RTOL):
+def gosselin_angeles(relation, inputs, outputs, rtol=DEFAULT_RTOL, row_scales=None):
     """Classify one configuration (θ, x) with a given relation F (eqs. 3–5).
 
     Parameters
@@ -329,6 +334,8 @@ def gosselin_angeles(relation, inputs, outputs, rtol=DEFAULT_RTOL):
     inputs, outputs : array_like, shape=[n]
         θ and x.
     rtol : float
+    row_scales : array_like, shape=[n], optional
+        See :func:`kinds_of_matrices`.
 
     Returns
     -------
@@ -339,7 +346,7 @@ def gosselin_angeles(relation, inputs, outputs, rtol=DEFAULT_RTOL):
         raise ValueError(f"relation {relation.name!r}: expected {relation.n} inputs and outputs, got shapes "
                          f"{inputs.shape} and {outputs.shape}")
     b, a = relation.jacobians(inputs, outputs)
-    return kinds_of_matrices(b, a, rtol=rtol)
+    return kinds_of_matrices(b, a, rtol=rtol, row_scales=row_scales)
 
 
 def derived_gosselin_angeles(model, point, basis, rtol=DEFAULT_RTOL):

@@ -1,0 +1,207 @@
+"""The comparison of Park–Kim and Gosselin–Angeles: the correspondence I ↔ end-effector,
+II ↔ actuator, III ↔ both or C-space (DESIGN.md, "Gosselin–Angeles"), and every entry of the closed
+list of reasons for a disagreement, each exercised on a concrete mechanism."""
+
+import numpy as np
+import pytest
+import sympy
+
+from classify import (
+    REASONS, Model, compare, correspondence, expected_kinds, joint_output_model, model_of,
+    path_configurations, relation_from_sympy,
+)
+from manifold import AmbientSpace, ImplicitManifold
+from mechanisms import home, to_displacements
+from mechanisms.catalogue import entry
+
+THETA, X = sympy.symbols("theta x")
+EXERCISED = set()
+
+
+def reasons_of(comparison):
+    found = {row.reason for row in comparison.rows}
+    EXERCISED.update(found)
+    return found
+
+
+def slider_crank(**parameters):
+    """The catalogue slider-crank, crank driven, the slider's displacement as the output."""
+    mechanism = entry("slider-crank").mechanism(**parameters)
+    return mechanism, joint_output_model(mechanism, ["slide"])
+
+
+def slider_crank_coordinates(mechanism):
+    """(θ, x) of G–A Fig. 2 at a configuration: crank angle from the slide, slider abscissa."""
+    pin, wrist = mechanism.joint("pin").point, mechanism.joint("wrist").point
+    theta_home, x_home = np.arctan2(pin[1], pin[0]), wrist[0]
+
+    def coordinates(point):
+        values = to_displacements(mechanism, point)
+        return np.array([theta_home + values["crank"]]), np.array([x_home + values["slide"]])
+    return coordinates
+
+
+def eq9(branch, crank, coupler):
+    """G–A eq. 9 as F(θ, x) = x − R cos θ ∓ l √(1 − r² sin² θ)."""
+    ratio = crank / coupler
+    return relation_from_sympy([THETA], [X], equations=[
+        X - crank * sympy.cos(THETA) - branch * coupler * sympy.sqrt(1 - ratio ** 2 * sympy.sin(THETA) ** 2)],
+        name="eq9")
+
+
+def test_regular_and_singular_slider_crank_correspond():
+    for configuration, kinds in ((None, ()), ("fig3b_actuator", ("II",)), ("fig3c_dead_centre", ("I",))):
+        mechanism = entry("slider-crank").mechanism(configuration)
+        result = compare(joint_output_model(mechanism, ["slide"]), [home(mechanism)])
+        row = result.rows[0]
+        assert row.agree and row.reason is None and row.gosselin_angeles.kinds == kinds
+        assert result.summary["agree"] == 1
+
+
+def test_redundant_actuation():
+    """Park & Kim, introduction: G–A does not handle redundant actuation; a five-bar with three motors."""
+    mechanism = entry("five-bar").mechanism(actuated="A,B,D")
+    result = compare(mechanism, [home(mechanism)])
+    assert reasons_of(result) == {"redundant_actuation"}
+    assert result.rows[0].park_kim.kinds == ()  # Park–Kim: regular, E semidefinite is no difficulty
+
+
+def test_unequal_dimensions():
+    """One input, the slider's planar position (two coordinates) as output."""
+    mechanism = entry("slider-crank").mechanism()
+    assert reasons_of(compare(mechanism, [home(mechanism)])) == {"unequal_dimensions"}
+
+
+def test_idle_freedom():
+    """A five-bar driven at A only, with the angle at B as the output: B moves with A locked."""
+    mechanism = entry("five-bar").mechanism(actuated="A")
+    result = compare(joint_output_model(mechanism, ["B"]), [home(mechanism)])
+    assert reasons_of(result) == {"idle_freedom"}
+    assert result.rows[0].gosselin_angeles.velocity_dimension == 2
+
+
+def test_cspace_singularity():
+    """Fig. 3a: the equal-link slider-crank where its two branches cross (Park & Kim Fig. 3a)."""
+    mechanism, model = slider_crank(crank=1.0, coupler=1.0, theta=np.pi / 2)
+    result = compare(model, [home(mechanism)])
+    assert reasons_of(result) == {"cspace_singularity"}
+    assert result.rows[0].park_kim.kinds == ("cspace",)
+    assert expected_kinds(result.rows[0].park_kim) == ("I", "II", "III")
+
+
+def test_stationary_motion():
+    """G–A eq. 84: a Gough–Stewart leg of zero length turns freely, moving neither inputs nor outputs."""
+    mechanism = entry("gough-stewart").mechanism("eq84_leg1_zero_length")
+    result = compare(mechanism, [home(mechanism)])
+    assert reasons_of(result) == {"stationary_motion"}
+    assert result.rows[0].gosselin_angeles.velocity_dimension < 6
+
+
+def test_not_differentiable_at_the_branch_point_of_eq9():
+    """G–A eq. 9 at sin θ = l/R (Fig. 3): its ±√ vanishes, B is infinite; eq. 12 rescales it to kind II."""
+    mechanism, model = slider_crank(configuration=None, theta=np.arcsin(0.5))
+    result = compare(model, [home(mechanism)], relation=eq9(1, 2.0, 1.0),
+                     coordinates=slider_crank_coordinates(mechanism))
+    assert reasons_of(result) == {"not_differentiable"}
+    assert result.rows[0].park_kim.kinds == ("actuator",)
+
+
+def test_degenerate_relation_from_squared_terms():
+    """cos θ eliminated by squaring eq. 9: F = (x² + R² − l²)² − 4x²R²(1 − sin²θ) also holds for the
+    mirror linkage θ → π − θ; where the two meet (θ = π/2) [B A] = 0 although M is smooth."""
+    crank, coupler = 1.0, 2.0
+    squared = relation_from_sympy([THETA], [X], equations=[
+        (X ** 2 + crank ** 2 - coupler ** 2) ** 2 - 4 * X ** 2 * crank ** 2 * (1 - sympy.sin(THETA) ** 2)],
+        name="squared")
+    mechanism, model = slider_crank(crank=crank, coupler=coupler, theta=np.pi / 2)
+    coordinates = slider_crank_coordinates(mechanism)
+    result = compare(model, [home(mechanism)], relation=squared, coordinates=coordinates)
+    assert reasons_of(result) == {"degenerate_relation"}
+    row = result.rows[0]
+    assert row.park_kim.kinds == () and row.gosselin_angeles.kinds == ("I", "II", "III")
+    assert row.gosselin_angeles.relation_decision.rank == 0
+    nearby = entry("slider-crank").mechanism(crank=crank, coupler=coupler, theta=1.2)
+    moved = compare(joint_output_model(nearby, ["slide"]), [home(nearby)], relation=squared,
+                    coordinates=slider_crank_coordinates(nearby))
+    assert moved.rows[0].agree  # away from θ = π/2 the squared F is fine
+
+
+def test_inconsistent_relation():
+    """Eq. 9 with the other sign describes the other assembly branch, not this configuration."""
+    mechanism, model = slider_crank(theta=0.3)
+    coordinates = slider_crank_coordinates(mechanism)
+    assert reasons_of(compare(model, [home(mechanism)], relation=eq9(1, 2.0, 1.0), coordinates=coordinates)) == {None}
+    wrong = compare(model, [home(mechanism)], relation=eq9(-1, 2.0, 1.0), coordinates=coordinates)
+    assert reasons_of(wrong) == {"inconsistent_relation"}
+
+
+def test_numerical_margin():
+    """Near the dead centre θ = 0 the two rank decisions cross the cut at slightly different θ."""
+    found = set()
+    for theta in np.logspace(-8, -4, 17):
+        mechanism, model = slider_crank(theta=float(theta))
+        found |= reasons_of(compare(model, [home(mechanism)]))
+    assert found == {None, "numerical_margin"}
+
+
+def test_unexplained_is_kept_for_what_the_list_does_not_cover():
+    """A report and a classification that differ for no listed reason are called unexplained."""
+    mechanism, model = slider_crank(theta=0.3)
+    regular = compare(model, [home(mechanism)]).rows[0]
+    mechanism, model = slider_crank(theta=np.arcsin(0.5))
+    singular = compare(model, [home(mechanism)]).rows[0]
+    assert singular.gosselin_angeles.kinds == ("II",)
+    assert correspondence(regular.park_kim, singular.gosselin_angeles)[1] == "unexplained"
+
+
+def test_a_stationary_motion_of_a_synthetic_model():
+    """M = {(s, θ, x): θ = s², x = s³}: at s = 0 neither input nor output moves to first order."""
+    ambient = AmbientSpace(("R", "R", "R"))
+
+    def constraint(point):
+        s, theta, x = np.moveaxis(np.asarray(point, dtype=float), -1, 0)
+        return np.stack([theta - s ** 2, x - s ** 3], axis=-1)
+
+    def jacobian(point):
+        s = np.asarray(point, dtype=float)[..., 0]
+        zero, one = np.zeros_like(s), np.ones_like(s)
+        return np.stack([np.stack([-2 * s, one, zero], -1), np.stack([-3 * s ** 2, zero, one], -1)], -2)
+    def hessian(point):
+        s = np.asarray(point, dtype=float)[..., 0]
+        result = np.zeros(s.shape + (2, 3, 3))
+        result[..., 0, 0, 0], result[..., 1, 0, 0] = -2.0, -6.0 * s
+        return result
+    model = Model("cusp", ImplicitManifold(ambient, constraint, jacobian, hessian), np.array([[0.0, 1.0, 0.0]]),
+                  ("s", "theta", "x"), np.zeros((1, 3)), lambda point: np.array([[0.0, 0.0, 1.0]]), np.eye(1))
+    result = compare(model, [[0.0, 0.0, 0.0], [0.5, 0.25, 0.125]])
+    assert [row.reason for row in result.rows] == ["stationary_motion", None]
+
+
+def test_a_path_through_the_fold_of_the_crank():
+    """Along M through Fig. 3b the two classifications correspond at every step."""
+    mechanism, model = slider_crank(theta=np.arcsin(0.5) - 0.05)
+    points, steps = path_configurations(model, home(mechanism), 6, step=0.02)
+    assert list(steps) == list(range(-6, 7))
+    result = compare(model, points)
+    assert all(row.agree for row in result.rows)
+
+
+def test_summary_counts_and_text():
+    mechanism = entry("five-bar").mechanism(actuated="A,B,D")
+    result = compare(mechanism, [home(mechanism)] * 2, labels=["one", "two"])
+    summary = result.summary
+    assert summary["configurations"] == 2 and summary["disagree"] == 2
+    assert summary["reasons"] == {"redundant_actuation": 2} and summary["gosselin_angeles"]["undefined"] == 2
+    text = result.to_text()
+    assert "redundant_actuation" in text and "[one, two]" in text
+    data = result.to_dict()
+    assert set(data["configurations"][0]) >= {"park_kim", "gosselin_angeles", "agree", "note"}
+    assert set(data["configurations"][0]["gosselin_angeles"]) >= {"kinds", "rank_A", "rank_B", "n"}
+
+
+def test_every_reason_of_the_closed_list_is_exercised():
+    """Runs last in this module (pytest keeps file order): every REASONS key was met above."""
+    missing = set(REASONS) - EXERCISED
+    if len(EXERCISED) <= 1:
+        pytest.skip("run the whole module to check the coverage of the reasons")
+    assert not missing, f"reasons never exercised: {sorted(missing)}"
