@@ -1,0 +1,69 @@
+"""``closedchain compare``: the JSON of the issue (per configuration ``park_kim``,
+``gosselin_angeles`` with ``kinds``, ``rank_A``, ``rank_B``, ``n``, ``agree``, ``note``; a
+``summary``), the text table, inputs and outputs chosen on the command line, one-line errors."""
+
+import json
+from pathlib import Path
+
+import pytest
+
+from classify.cli import main
+
+EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
+
+
+def run(arguments, capsys):
+    status = main(arguments)
+    captured = capsys.readouterr()
+    return status, captured.out, captured.err
+
+
+def test_compare_json_follows_the_issue(capsys):
+    status, out, err = run(["compare", "slider-crank", "--configuration", "fig3b_actuator", "--outputs", "slide",
+                            "--samples", "2", "--format", "json"], capsys)
+    assert status == 0, err
+    result = json.loads(out)
+    rows = result["configurations"]
+    assert [row["configuration"] for row in rows][0] == "home" and len(rows) == 3
+    for row in rows:
+        assert {"park_kim", "gosselin_angeles", "agree", "note"} <= set(row)
+        assert {"kinds", "rank_A", "rank_B", "n"} <= set(row["gosselin_angeles"])
+        assert set(row["gosselin_angeles"]["kinds"]) <= {"I", "II", "III"}
+        assert row["park_kim"]["mechanism"] == "slider-crank"
+    home = rows[0]
+    assert home["park_kim"]["kinds"] == ["actuator"] and home["gosselin_angeles"]["kinds"] == ["II"]
+    assert (home["gosselin_angeles"]["rank_A"], home["gosselin_angeles"]["rank_B"], home["gosselin_angeles"]["n"]) \
+        == (0, 1, 1)
+    assert home["agree"] is True
+    assert result["summary"]["configurations"] == 3 and result["summary"]["agree"] == 3
+    assert result["inputs"] == ["crank"] and result["outputs"] == ["slide"]
+
+
+def test_compare_text_of_a_redundantly_actuated_five_bar(capsys):
+    status, out, err = run(["compare", "five-bar", "--inputs", "A,B,D", "--samples", "1"], capsys)
+    assert status == 0, err
+    assert "redundant_actuation" in out and "undefined" in out
+    assert "0 of 2 configurations correspond" in out
+
+
+def test_compare_a_file_at_given_configurations_and_along_a_path(capsys):
+    at = json.dumps({"J1": 0.1, "J5": -0.1})
+    status, out, err = run(["compare", str(EXAMPLES / "five_bar.yaml"), "--at", at, "--project", "--path", "2",
+                            "--samples", "0", "--format", "json"], capsys)
+    assert status == 0, err
+    labels = [row["configuration"] for row in json.loads(out)["configurations"]]
+    assert labels[:2] == ["home", "at1"] and {"path-1", "path+1"} <= set(labels)
+
+
+@pytest.mark.parametrize("arguments, fragment", [
+    (["compare", "five-bar", "--inputs", "A,Z"], "--inputs: no joint 'Z'"),
+    (["compare", "five-bar", "--outputs", "P,P"], "--outputs: joint 'P' is named twice"),
+    (["compare", "five-bar", "--inputs", "A,,B"], "--inputs: expected comma-separated joint names"),
+    (["compare", "five-bar", "--samples", "-1"], "--samples: expected a count ≥ 0"),
+    (["compare", "spherical-six-bar"], "--outputs: 'spherical-six-bar' has no end-effector"),
+    (["compare", "five-bar", "--at", "[1]"], "--at: expected a JSON object"),
+    (["compare", "no-such-thing"], "no such file or catalogue entry"),
+])
+def test_compare_input_errors_exit_2_with_one_line(arguments, fragment, capsys):
+    status, out, err = run(arguments, capsys)
+    assert status == 2 and fragment in err and len(err.strip().splitlines()) == 1 and not out
