@@ -7,8 +7,7 @@ singularities; reports. Imports :mod:`mechanisms` and :mod:`manifold`.
 
 from .classification import classify, classify_many
 from .comparison import (
-    REASONS, Comparison, ComparisonRow, compare, correspondence, expected_kinds,
-    path_configurations, sample_configurations,
+    REASONS, Comparison, ComparisonRow, compare, correspondence, expected_kinds, sample_configurations,
 )
 from .gosselin_angeles import (
     GA_KINDS, GosselinAngeles, InputOutputRelation, derived_gosselin_angeles, gosselin_angeles,
@@ -19,6 +18,7 @@ from .metrics import (
     metric_root, pullback_metric, weighted_actuator_jacobian,
 )
 from .model import Model, joint_output_model, model_of
+from .paths import path_configurations, singular_crossings
 from .report import KINDS, KindResult, Report
 from .second_order import SECOND_ORDER_RTOL, SecondOrderResult, SelfMotion, fibre, second_order_test
 from .survey import Survey, survey
@@ -26,7 +26,7 @@ from .survey import Survey, survey
 __all__ = [
     "classify", "classify_many",
     "REASONS", "Comparison", "ComparisonRow", "compare", "correspondence", "expected_kinds",
-    "path_configurations", "sample_configurations",
+    "sample_configurations", "path_configurations", "singular_crossings",
     "GA_KINDS", "GosselinAngeles", "InputOutputRelation", "derived_gosselin_angeles", "gosselin_angeles",
     "kinds_of_matrices", "relation_from_callables", "relation_from_sympy",
     "Manipulability", "actuator_metric", "end_effector_metric", "manipulability",

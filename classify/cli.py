@@ -31,7 +31,8 @@ from mechanisms import catalogue
 from mechanisms.io import read, save
 
 from .classification import classify
-from .comparison import compare, path_configurations, sample_configurations
+from .comparison import compare, sample_configurations
+from .paths import path_configurations, singular_crossings
 from .model import joint_output_model, model_of
 from .survey import survey as survey_mechanism
 
@@ -84,7 +85,8 @@ def _parser():
     both.add_argument("--samples", type=int, default=8, metavar="N",
                       help="also compare N configurations sampled over the assembly branches (default 8)")
     both.add_argument("--path", type=int, default=0, metavar="N",
-                      help="also compare up to N configurations each way along a curve of M through the home")
+                      help="also compare up to N configurations each way along a curve of M through the home, "
+                           "and the actuator and end-effector singularities the curve crosses")
     both.add_argument("--format", choices=("json", "text"), default="text")
     _common_options(both)
     listing = commands.add_parser("catalog", help="list the catalogue, describe an entry or write it to a file")
@@ -227,6 +229,9 @@ def _run_compare(arguments, out):
         path, steps = path_configurations(model, points[0], arguments.path)
         labels += [f"path{step:+d}" for step in steps if step]
         points += [point for point, step in zip(path, steps) if step]
+        crossings = singular_crossings(model, path)
+        labels += [f"path-crossing{index}-{kind}" for index, (_, kind) in enumerate(crossings, start=1)]
+        points += [point for point, _ in crossings]
     samples = sample_configurations(model, arguments.samples, rng)
     labels += [f"sample{index}" for index in range(1, len(samples) + 1)]
     points += list(samples)

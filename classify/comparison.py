@@ -23,7 +23,7 @@ from typing import Callable, Optional
 
 import numpy as np
 
-from manifold import DEFAULT_RTOL, continue_curve, sample_manifold, tangent_basis
+from manifold import DEFAULT_RTOL, sample_manifold, tangent_basis
 from mechanisms import Mechanism
 
 from .classification import classify
@@ -32,7 +32,7 @@ from .model import model_of
 from .survey import survey as survey_model
 
 __all__ = ["REASONS", "expected_kinds", "correspondence", "ComparisonRow", "Comparison", "compare",
-           "sample_configurations", "path_configurations"]
+           "sample_configurations"]
 
 #: the closed list of reasons for a disagreement (or an undefined G–A classification)
 REASONS = {
@@ -371,37 +371,3 @@ def sample_configurations(model, count, rng, starts=None):
     points = sample_manifold(model.manifold, rng, starts, random_count=count, walk_count=count)[len(starts):]
     chosen = rng.choice(len(points), size=min(count, len(points)), replace=False)
     return points[np.sort(chosen)]
-
-
-def path_configurations(model, point, count, step=0.05, direction=None, rtol=DEFAULT_RTOL):
-    """Configurations along a curve of M through `point`, both ways (``count`` on each side at most).
-
-    Continues M along `direction` (default the first tangent direction at
-    `point`) with :func:`manifold.continue_curve`; for a one-degree-of-freedom
-    mechanism this is the path of the mechanism itself, through every fold of
-    its inputs or outputs.
-
-    Parameters
-    ----------
-    model : Model
-    point : ndarray, shape=[point_size]
-    count : int
-    step : float
-        Distance between successive configurations (coordinate scales).
-    direction : ndarray, shape=[k], optional
-    rtol : float
-
-    Returns
-    -------
-    points : ndarray, shape=[≤ 2 count + 1, point_size]
-        In order along the path.
-    steps : ndarray of int, shape=[≤ 2 count + 1]
-        Signed index of each point along the path (0 at `point`).
-    """
-    if direction is None:
-        direction = tangent_basis(model.manifold, point, rtol=rtol)[0][:, 0]
-    sides = [continue_curve(model.manifold, point, sign * direction, length=count * step, step=step).points[1:]
-             [:count] for sign in (-1.0, 1.0)]
-    points = np.concatenate([sides[0][::-1], np.asarray(point, dtype=float)[None], sides[1]])
-    steps = np.arange(-len(sides[0]), len(sides[1]) + 1)
-    return points, steps

@@ -8,7 +8,7 @@ import sympy
 
 from classify import (
     REASONS, Model, compare, correspondence, expected_kinds, joint_output_model, model_of,
-    path_configurations, relation_from_sympy,
+    path_configurations, relation_from_sympy, singular_crossings,
 )
 from manifold import AmbientSpace, ImplicitManifold
 from mechanisms import home, to_displacements
@@ -183,6 +183,22 @@ def test_a_path_through_the_fold_of_the_crank():
     points, steps = path_configurations(model, home(mechanism), 6, step=0.02)
     assert list(steps) == list(range(-6, 7))
     result = compare(model, points)
+    assert all(row.agree for row in result.rows)
+
+
+def test_a_path_crosses_the_fold_and_the_dead_centre_exactly():
+    """From θ = 0.4 the path of the slider-crank (R = 2, l = 1) reaches the fold sin θ = l/R (eq. 14,
+    actuator) one way and the dead centre θ = 0 (eq. 13, end-effector) the other; the crossings are
+    located to the bisection tolerance, and both classifications agree there."""
+    mechanism, model = slider_crank(theta=0.4)
+    points, _ = path_configurations(model, home(mechanism), 40, step=0.05)
+    crossings = singular_crossings(model, points)
+    assert [kind for _, kind in crossings] == ["actuator", "end_effector"]
+    angles = [slider_crank_coordinates(mechanism)(point)[0][0] for point, _ in crossings]
+    np.testing.assert_allclose(angles, [np.arcsin(0.5), 0.0], atol=1e-6)
+    result = compare(model, [point for point, _ in crossings])
+    assert [row.gosselin_angeles.kinds for row in result.rows] == [("II",), ("I",)]
+    assert [row.park_kim.kinds for row in result.rows] == [("actuator",), ("end_effector",)]
     assert all(row.agree for row in result.rows)
 
 
