@@ -254,20 +254,23 @@ def _relation_velocities(model, point, basis, coordinates, step=1e-6):
     return np.array(columns).T
 
 
-def _row_scales(relation, model, point, basis, coordinates, theta, x, step=1e-2):
-    """The size of each row of F's [B A] around p: its largest norm at p and at p ± step along T.
+def _row_scales(relation, theta, x, step=1e-2):
+    """The size of each row of F's [B A] around (θ, x): its largest norm there and at each variable ± step.
 
-    A row that vanishes at p but not around it (F written with squared or
-    factored terms) is then seen as zero by the relative cut.
+    The variables are moved one at a time by ``step · (1 + |value|)``, off M,
+    so that a row which vanishes at (θ, x), or on the whole branch of M
+    through it (F written with squared or factored terms), is seen as zero by
+    the relative cut.
     """
-    ambient = model.manifold.ambient
+    variables = np.concatenate([theta, x]).astype(float)
+    n = len(theta)
     sizes = [np.linalg.norm(np.hstack(relation.jacobians(theta, x)), axis=1)]
-    for column in basis.T:
+    for index in range(len(variables)):
         for sign in (-1.0, 1.0):
-            near_theta, near_x = coordinates(ambient.retract(point, sign * step * column))
+            moved = variables.copy()
+            moved[index] += sign * step * (1.0 + abs(moved[index]))
             with np.errstate(all="ignore"):
-                sizes.append(np.linalg.norm(np.hstack(relation.jacobians(np.asarray(near_theta, dtype=float),
-                                                                        np.asarray(near_x, dtype=float))), axis=1))
+                sizes.append(np.linalg.norm(np.hstack(relation.jacobians(moved[:n], moved[n:])), axis=1))
     sizes = np.array(sizes)
     return np.max(np.where(np.isfinite(sizes), sizes, 0.0), axis=0)
 
@@ -332,8 +335,8 @@ def compare(mechanism, points, labels=None, relation=None, coordinates=None, sur
         if relation is None:
             result = derived_gosselin_angeles(model, point, basis, rtol=rtol)
         else:
-            theta, x = coordinates(point)
-            scales = _row_scales(relation, model, point, basis, coordinates, theta, x)
+            theta, x = (np.asarray(value, dtype=float) for value in coordinates(point))
+            scales = _row_scales(relation, theta, x)
             result = gosselin_angeles(relation, theta, x, rtol=rtol, row_scales=scales)
             if not ("cspace" in report.kinds):
                 consistent = _consistent(result, _relation_velocities(model, point, basis, coordinates))

@@ -103,6 +103,15 @@ def _lambdified(matrix, arguments):
     return evaluate
 
 
+def _parameter_value(symbol, value):
+    """A parameter as a SymPy number; text is refused (never parsed)."""
+    if isinstance(value, sympy.Basic):
+        return value
+    if isinstance(value, (bool, str)) or not isinstance(value, (int, float, np.integer, np.floating)):
+        raise TypeError(f"parameter {symbol}: expected a number or a SymPy expression, got {value!r}")
+    return sympy.Integer(int(value)) if isinstance(value, (int, np.integer)) else sympy.Float(float(value))
+
+
 def relation_from_sympy(inputs, outputs, equations=None, input_jacobian=None, output_jacobian=None,
                         parameters=None, name="F", reference=""):
     """A relation from SymPy expressions: F itself, or the paper's A and B directly.
@@ -170,9 +179,10 @@ def relation_from_sympy(inputs, outputs, equations=None, input_jacobian=None, ou
         raise ValueError(f"relation {name!r}: symbols {sorted(map(str, unknown))} are neither inputs, outputs "
                          f"nor parameters")
     arguments = (list(inputs), list(outputs))
-    evaluate_b = _lambdified(input_jacobian.subs(parameters), arguments)
-    evaluate_a = _lambdified(output_jacobian.subs(parameters), arguments)
-    evaluate_f = None if residual is None else _lambdified(residual.subs(parameters), arguments)
+    values = {symbol: _parameter_value(symbol, value) for symbol, value in parameters.items()}
+    evaluate_b = _lambdified(input_jacobian.xreplace(values), arguments)
+    evaluate_a = _lambdified(output_jacobian.xreplace(values), arguments)
+    evaluate_f = None if residual is None else _lambdified(residual.xreplace(values), arguments)
 
     def jacobians(theta, x):
         return evaluate_b(list(theta), list(x)), evaluate_a(list(theta), list(x))

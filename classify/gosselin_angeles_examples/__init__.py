@@ -1,0 +1,33 @@
+"""Gosselin–Angeles relations F(θ, x) = 0 of the paper's examples, for the catalogue mechanisms.
+
+Each function takes a catalogue mechanism (and the paper's branch signs where
+needed) and returns ``(relation, coordinates)``: an
+:class:`~classify.gosselin_angeles.InputOutputRelation` written as in
+Gosselin & Angeles (``000_cb500b1ffad40f57.txt``) and ``coordinates(point) ->
+(theta, x)``, the relation's variables read from the mechanism's geometry at a
+configuration, ready for :func:`classify.comparison.compare`.
+
+Planar examples: the slider-crank (:mod:`.slider_crank`, eqs. 6–17), Watt's
+linkage (:mod:`.watt`, eqs. 18–41), the planar 3-RRR (:mod:`.planar_3rrr`,
+eqs. 42–65).
+"""
+
+from .planar_3rrr import (
+    Planar3RRRGeometry, planar_3rrr_coordinates, planar_3rrr_geometry, planar_3rrr_matrices,
+    planar_3rrr_relation,
+)
+from .slider_crank import (
+    SliderCrankGeometry, eq9_relation, eq12_matrices, eq12_relation, slider_crank_branch,
+    slider_crank_coordinates, slider_crank_geometry, squared_equation, squared_relation,
+)
+from .watt import WattGeometry, watt_coordinates, watt_factors, watt_geometry, watt_relation, watt_rocker_angle
+
+# spatial examples: added by the maintainer
+
+__all__ = [
+    "SliderCrankGeometry", "slider_crank_geometry", "slider_crank_coordinates", "slider_crank_branch",
+    "eq9_relation", "eq12_relation", "eq12_matrices", "squared_relation", "squared_equation",
+    "WattGeometry", "watt_geometry", "watt_coordinates", "watt_rocker_angle", "watt_factors", "watt_relation",
+    "Planar3RRRGeometry", "planar_3rrr_geometry", "planar_3rrr_coordinates", "planar_3rrr_matrices",
+    "planar_3rrr_relation",
+]
