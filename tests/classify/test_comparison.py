@@ -4,17 +4,16 @@ list of reasons for a disagreement, each exercised on a concrete mechanism."""
 
 import numpy as np
 import pytest
-import sympy
 
 from classify import (
-    REASONS, Model, compare, correspondence, expected_kinds, joint_output_model, model_of,
-    path_configurations, relation_from_sympy, singular_crossings,
+    REASONS, Model, compare, correspondence, expected_kinds, joint_output_model, path_configurations,
+    singular_crossings,
 )
+from classify.gosselin_angeles_examples import eq9_relation, slider_crank_coordinates, squared_relation
 from manifold import AmbientSpace, ImplicitManifold
 from mechanisms import home, to_displacements
 from mechanisms.catalogue import entry
 
-THETA, X = sympy.symbols("theta x")
 EXERCISED = set()
 
 
@@ -28,25 +27,6 @@ def slider_crank(**parameters):
     """The catalogue slider-crank, crank driven, the slider's displacement as the output."""
     mechanism = entry("slider-crank").mechanism(**parameters)
     return mechanism, joint_output_model(mechanism, ["slide"])
-
-
-def slider_crank_coordinates(mechanism):
-    """(θ, x) of G–A Fig. 2 at a configuration: crank angle from the slide, slider abscissa."""
-    pin, wrist = mechanism.joint("pin").point, mechanism.joint("wrist").point
-    theta_home, x_home = np.arctan2(pin[1], pin[0]), wrist[0]
-
-    def coordinates(point):
-        values = to_displacements(mechanism, point)
-        return np.array([theta_home + values["crank"]]), np.array([x_home + values["slide"]])
-    return coordinates
-
-
-def eq9(branch, crank, coupler):
-    """G–A eq. 9 as F(θ, x) = x − R cos θ ∓ l √(1 − r² sin² θ)."""
-    ratio = crank / coupler
-    return relation_from_sympy([THETA], [X], equations=[
-        X - crank * sympy.cos(THETA) - branch * coupler * sympy.sqrt(1 - ratio ** 2 * sympy.sin(THETA) ** 2)],
-        name="eq9")
 
 
 def test_regular_and_singular_slider_crank_correspond():
@@ -99,9 +79,9 @@ def test_stationary_motion():
 
 def test_not_differentiable_at_the_branch_point_of_eq9():
     """G–A eq. 9 at sin θ = l/R (Fig. 3): its ±√ vanishes, B is infinite; eq. 12 rescales it to kind II."""
-    mechanism, model = slider_crank(configuration=None, theta=np.arcsin(0.5))
-    result = compare(model, [home(mechanism)], relation=eq9(1, 2.0, 1.0),
-                     coordinates=slider_crank_coordinates(mechanism))
+    mechanism, model = slider_crank(theta=np.arcsin(0.5))
+    relation, coordinates = eq9_relation(mechanism, branch=1)
+    result = compare(model, [home(mechanism)], relation=relation, coordinates=coordinates)
     assert reasons_of(result) == {"not_differentiable"}
     assert result.rows[0].park_kim.kinds == ("actuator",)
 
@@ -109,30 +89,24 @@ def test_not_differentiable_at_the_branch_point_of_eq9():
 def test_degenerate_relation_from_squared_terms():
     """cos θ eliminated by squaring eq. 9: F = (x² + R² − l²)² − 4x²R²(1 − sin²θ) also holds for the
     mirror linkage θ → π − θ; where the two meet (θ = π/2) [B A] = 0 although M is smooth."""
-    crank, coupler = 1.0, 2.0
-    squared = relation_from_sympy([THETA], [X], equations=[
-        (X ** 2 + crank ** 2 - coupler ** 2) ** 2 - 4 * X ** 2 * crank ** 2 * (1 - sympy.sin(THETA) ** 2)],
-        name="squared")
-    mechanism, model = slider_crank(crank=crank, coupler=coupler, theta=np.pi / 2)
-    coordinates = slider_crank_coordinates(mechanism)
-    result = compare(model, [home(mechanism)], relation=squared, coordinates=coordinates)
+    mechanism, model = slider_crank(crank=3.0, coupler=5.0, theta=np.pi / 2)
+    relation, coordinates = squared_relation(mechanism)
+    result = compare(model, [home(mechanism)], relation=relation, coordinates=coordinates)
     assert reasons_of(result) == {"degenerate_relation"}
     row = result.rows[0]
     assert row.park_kim.kinds == () and row.gosselin_angeles.kinds == ("I", "II", "III")
     assert row.gosselin_angeles.relation_decision.rank == 0
-    nearby = entry("slider-crank").mechanism(crank=crank, coupler=coupler, theta=1.2)
-    moved = compare(joint_output_model(nearby, ["slide"]), [home(nearby)], relation=squared,
-                    coordinates=slider_crank_coordinates(nearby))
-    assert moved.rows[0].agree  # away from θ = π/2 the squared F is fine
+    nearby, nearby_model = slider_crank(crank=3.0, coupler=5.0, theta=1.2)
+    relation, coordinates = squared_relation(nearby)
+    assert compare(nearby_model, [home(nearby)], relation=relation, coordinates=coordinates).rows[0].agree
 
 
 def test_inconsistent_relation():
     """Eq. 9 with the other sign describes the other assembly branch, not this configuration."""
     mechanism, model = slider_crank(theta=0.3)
-    coordinates = slider_crank_coordinates(mechanism)
-    assert reasons_of(compare(model, [home(mechanism)], relation=eq9(1, 2.0, 1.0), coordinates=coordinates)) == {None}
-    wrong = compare(model, [home(mechanism)], relation=eq9(-1, 2.0, 1.0), coordinates=coordinates)
-    assert reasons_of(wrong) == {"inconsistent_relation"}
+    for branch, reasons in ((1, {None}), (-1, {"inconsistent_relation"})):
+        relation, coordinates = eq9_relation(mechanism, branch=branch)
+        assert reasons_of(compare(model, [home(mechanism)], relation=relation, coordinates=coordinates)) == reasons
 
 
 def test_numerical_margin():
