@@ -148,6 +148,8 @@ def relation_from_sympy(inputs, outputs, equations=None, input_jacobian=None, ou
     --------
     The slider-crank as Gosselin & Angeles write it (eq. 9, '+' branch):
 
+    >>> import sympy
+    >>> from classify import gosselin_angeles, relation_from_sympy
     >>> theta, x = sympy.symbols("theta x")
     >>> R, l = 1.0, 2.0
     >>> relation = relation_from_sympy(

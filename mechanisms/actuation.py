@@ -34,6 +34,7 @@ def actuate(mechanism, joint_names, where="inputs"):
 
     Examples
     --------
+    >>> from mechanisms import actuate
     >>> from mechanisms.catalogue import entry
     >>> driven = actuate(entry("slider-crank").mechanism(), ["slide"])
     >>> [joint.name for joint in driven.joints if joint.actuated]

@@ -30,8 +30,8 @@ Conventions (checked against the mechanism's velocities in the tests):
   given instead (``modes``). The inputs θ enter A and B only through γᵢ.
 * ψᵢ enters only through sin ψᵢ = sin cos⁻¹(cᵢ) = √(1 − cᵢ²) with cᵢ the
   argument of eq. 53 (ψᵢ ∈ [0, π]); it is written √|1 − cᵢ²|, equal where
-  |cᵢ| ≤ 1, so that at a stretched or folded leg (eq. 59), where rounding can
-  put |cᵢ| a few ulps above 1, sin ψᵢ comes out √ε-small instead of nan (the
+  ‖cᵢ‖ ≤ 1, so that at a stretched or folded leg (eq. 59), where rounding can
+  put ‖cᵢ‖ a few ulps above 1, sin ψᵢ comes out √ε-small instead of nan (the
   catalogue's folds fix ψᵢ only to √ε anyway).
 * The motor centres (x_oi, y_oi), l₁, l₂, l₃ are read from the mechanism's
   joints, so the relation holds for the eq. 64 and 65 designs as well as

@@ -267,7 +267,7 @@ def eq12_relation(mechanism, branch=1):
 
     Kinds: I where B = 0, i.e. θ = 0, π (eq. 13, the links aligned); II where A = 0,
     i.e. sin θ = l/R (eq. 14, Fig. 3); both at R = l (eqs. 15–17), where
-    A = |cos θ| and, on the constant branch x = 0 (sign −sign cos θ), B = 0 for every θ;
+    A = ‖cos θ‖ and, on the constant branch x = 0 (sign −sign cos θ), B = 0 for every θ;
     at θ = π/2 the constant branch meets x = 2R cos θ and A = B = 0 (Fig. 4).
 
     A is ≥ 0 here (the principal root), and at the exact fold of the preset
@@ -291,6 +291,7 @@ def eq12_relation(mechanism, branch=1):
     Examples
     --------
     >>> from classify import compare, joint_output_model
+    >>> from classify.gosselin_angeles_examples import eq12_relation
     >>> from mechanisms import home
     >>> from mechanisms.catalogue import entry
     >>> mechanism = entry("slider-crank").mechanism("fig3b_actuator")
@@ -357,7 +358,9 @@ def squared_relation(mechanism):
 
     Examples
     --------
+    >>> import math
     >>> from classify import compare, joint_output_model
+    >>> from classify.gosselin_angeles_examples import squared_relation
     >>> from mechanisms import home
     >>> from mechanisms.catalogue import entry
     >>> mechanism = entry("slider-crank").mechanism(crank=3.0, coupler=5.0, theta=math.pi / 2)

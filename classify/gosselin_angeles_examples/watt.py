@@ -4,7 +4,7 @@ Section IV of Gosselin & Angeles: the input is the crank angle θ, the output
 the angle φ of the output link l₃; the ternary rocker (an equilateral triangle
 of side 1 turning about joint 4 by ψ) couples the two four-bar loops. The
 velocity relation ``A φ̇ + B θ̇ = 0`` (eq. 31) has ``A = D₁ D₂`` and
-``B = N₁ N₂`` (eq. 32) with
+``B = N₁ N₂`` (eq. 32) with::
 
     N₁ = (l₁ cos θ − √3 l₁ sin θ + l₁² + l₂²)(½ l₁ sin θ + √3/2 l₁ cos θ)
          + 2 sin(ψ − β)(l₁² + ½ l₁ cos θ − √3/2 l₁ sin θ) √(1 − √3 l₁ sin θ + l₁ cos θ + l₁²)   (eq. 33)
