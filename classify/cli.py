@@ -32,6 +32,7 @@ from mechanisms.io import read, save
 
 from .classification import classify
 from .comparison import compare, sample_configurations
+from .gosselin_angeles_examples import RELATIONS
 from .paths import path_configurations, singular_crossings
 from .model import joint_output_model, model_of
 from .survey import survey as survey_mechanism
@@ -82,6 +83,9 @@ def _parser():
     both.add_argument("--outputs", default=None, metavar="J3,J4",
                       help="output joints, comma-separated: their coordinates are the outputs "
                            "(default: the end-effector's coordinates)")
+    both.add_argument("--relation", default=None, metavar="NAME",
+                      help="use the paper's F of a catalogue entry (e.g. eq9 for slider-crank) instead of the "
+                           "matrices derived from the mechanism")
     both.add_argument("--samples", type=int, default=8, metavar="N",
                       help="also compare N configurations sampled over the assembly branches (default 8)")
     both.add_argument("--path", type=int, default=0, metavar="N",
@@ -197,6 +201,19 @@ def _joint_list(text, where):
     return names
 
 
+def _paper_relation(arguments, mechanism, point):
+    """The (relation, coordinates) named by --relation for a catalogue entry."""
+    known = RELATIONS.get(arguments.file, {}) if _is_entry(arguments.file) else {}
+    if arguments.relation not in known:
+        entries = "; ".join(f"{name}: {', '.join(relations)}" for name, relations in RELATIONS.items())
+        raise InputError(f"--relation: no relation {arguments.relation!r} for {arguments.file!r} "
+                         f"(the paper's relations are: {entries})")
+    try:
+        return known[arguments.relation](mechanism, point)
+    except ValueError as error:
+        raise InputError(f"--relation: {arguments.relation} does not apply here: {error}") from None
+
+
 def _run_compare(arguments, out):
     _check_length_scale(arguments.length_scale)
     for option in ("samples", "path"):
@@ -235,8 +252,12 @@ def _run_compare(arguments, out):
     samples = sample_configurations(model, arguments.samples, rng)
     labels += [f"sample{index}" for index in range(1, len(samples) + 1)]
     points += list(samples)
+    relation = coordinates = None
+    if arguments.relation is not None:
+        relation, coordinates = _paper_relation(arguments, mechanism, points[0])
     print(f"comparing {len(points)} configurations of {mechanism.name}", file=sys.stderr)
-    result = compare(model, np.stack(points), labels, rng=rng, output_names=output_names)
+    result = compare(model, np.stack(points), labels, relation=relation, coordinates=coordinates, rng=rng,
+                     output_names=output_names)
     if arguments.format == "json":
         out.write(json.dumps(result.to_dict(), indent=2, ensure_ascii=False) + "\n")
     else:

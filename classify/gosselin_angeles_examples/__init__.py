@@ -24,7 +24,27 @@ from .watt import WattGeometry, watt_coordinates, watt_factors, watt_geometry, w
 
 # spatial examples: added by the maintainer
 
+
+def _slider_crank_branch_relation(function):
+    def build(mechanism, point):
+        return function(mechanism, branch=slider_crank_branch(mechanism, point))
+    return build
+
+
+#: The paper's relations by catalogue entry: ``RELATIONS[entry][name](mechanism, point) -> (relation,
+#: coordinates)``; a branch sign (eqs. 9, 12) is that of `point`.
+RELATIONS = {
+    "slider-crank": {
+        "eq9": _slider_crank_branch_relation(eq9_relation),
+        "eq12": _slider_crank_branch_relation(eq12_relation),
+        "squared": lambda mechanism, point: squared_relation(mechanism),
+    },
+    "watt-six-bar": {"eq32": lambda mechanism, point: watt_relation(mechanism)},
+    "planar-3rrr": {"eq44": lambda mechanism, point: planar_3rrr_relation(mechanism)},
+}
+
 __all__ = [
+    "RELATIONS",
     "SliderCrankGeometry", "slider_crank_geometry", "slider_crank_coordinates", "slider_crank_branch",
     "eq9_relation", "eq12_relation", "eq12_matrices", "squared_relation", "squared_equation",
     "WattGeometry", "watt_geometry", "watt_coordinates", "watt_rocker_angle", "watt_factors", "watt_relation",

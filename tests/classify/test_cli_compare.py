@@ -55,7 +55,22 @@ def test_compare_a_file_at_given_configurations_and_along_a_path(capsys):
     assert labels[:2] == ["home", "at1"] and {"path-1", "path+1"} <= set(labels)
 
 
+def test_compare_with_the_papers_relation(capsys):
+    """Eq. 9 of Gosselin & Angeles at the branch point of Fig. 3, then eq. 12 there: the reasons."""
+    base = ["compare", "slider-crank", "--configuration", "fig3b_actuator", "--outputs", "slide", "--samples", "0",
+            "--format", "json"]
+    status, out, err = run(base + ["--relation", "eq9"], capsys)
+    assert status == 0, err
+    result = json.loads(out)
+    assert result["gosselin_angeles_source"].startswith("eq9")
+    assert result["configurations"][0]["reason"] == "not_differentiable"
+    status, out, err = run(base + ["--relation", "eq12"], capsys)
+    row = json.loads(out)["configurations"][0]
+    assert row["agree"] is True and row["gosselin_angeles"]["kinds"] == ["II"]
+
+
 @pytest.mark.parametrize("arguments, fragment", [
+    (["compare", "five-bar", "--relation", "eq9"], "--relation: no relation 'eq9' for 'five-bar'"),
     (["compare", "five-bar", "--inputs", "A,Z"], "--inputs: no joint 'Z'"),
     (["compare", "five-bar", "--outputs", "P,P"], "--outputs: joint 'P' is named twice"),
     (["compare", "five-bar", "--inputs", "A,,B"], "--inputs: expected comma-separated joint names"),
