@@ -19,7 +19,7 @@ from __future__ import annotations
 
 from collections import Counter
 from dataclasses import dataclass
-from typing import Callable, Optional
+from typing import Optional
 
 import numpy as np
 
@@ -108,7 +108,7 @@ def correspondence(report, result, consistent=True):
     expected = expected_kinds(report)
     pk = ", ".join(report.kinds) or "regular"
     if not result.defined:
-        if result.undefined == "not_finite":
+        if result.undefined in ("not_finite", "not_differentiable"):
             reason = "not_differentiable"
         elif result.n > report.dof:
             reason = "redundant_actuation"
@@ -254,27 +254,6 @@ def _relation_velocities(model, point, basis, coordinates, step=1e-6):
     return np.array(columns).T
 
 
-def _row_scales(relation, theta, x, step=1e-2):
-    """The size of each row of F's [B A] around (θ, x): its largest norm there and at each variable ± step.
-
-    The variables are moved one at a time by ``step · (1 + |value|)``, off M,
-    so that a row which vanishes at (θ, x), or on the whole branch of M
-    through it (F written with squared or factored terms), is seen as zero by
-    the relative cut.
-    """
-    variables = np.concatenate([theta, x]).astype(float)
-    n = len(theta)
-    sizes = [np.linalg.norm(np.hstack(relation.jacobians(theta, x)), axis=1)]
-    for index in range(len(variables)):
-        for sign in (-1.0, 1.0):
-            moved = variables.copy()
-            moved[index] += sign * step * (1.0 + abs(moved[index]))
-            with np.errstate(all="ignore"):
-                sizes.append(np.linalg.norm(np.hstack(relation.jacobians(moved[:n], moved[n:])), axis=1))
-    sizes = np.array(sizes)
-    return np.max(np.where(np.isfinite(sizes), sizes, 0.0), axis=0)
-
-
 def _consistent(result, velocities):
     """Whether the rows of [B A] annihilate the velocities (relative to their size)."""
     if not result.defined or result.relation_decision is None or result.relation_decision.rank < result.n:
@@ -335,9 +314,8 @@ def compare(mechanism, points, labels=None, relation=None, coordinates=None, sur
         if relation is None:
             result = derived_gosselin_angeles(model, point, basis, rtol=rtol)
         else:
-            theta, x = (np.asarray(value, dtype=float) for value in coordinates(point))
-            scales = _row_scales(relation, theta, x)
-            result = gosselin_angeles(relation, theta, x, rtol=rtol, row_scales=scales)
+            theta, x = coordinates(point)
+            result = gosselin_angeles(relation, theta, x, rtol=rtol)
             if not ("cspace" in report.kinds):
                 consistent = _consistent(result, _relation_velocities(model, point, basis, coordinates))
         agree, reason, note = correspondence(report, result, consistent)

@@ -238,6 +238,7 @@ class GosselinAngeles:
     undefined : str or None
         Why G–A is not defined here: ``"not_square"`` (inputs ≠ outputs in
         number), ``"not_finite"`` (A or B not finite: F not differentiable),
+        ``"not_differentiable"`` (A and B jump across the point: a kink of F),
         ``"subspace_dimension"`` (derived: the annihilator of V does not have
         dimension n), else None.
     detail : str
@@ -337,8 +338,51 @@ def kinds_of_matrices(input_jacobian, output_jacobian, rtol=DEFAULT_RTOL, row_sc
                            numerical_rank(normalised[:, n:], rtol=rtol, scale=1.0), relation, None, detail)
 
 
+#: relative step of the variables when sizing the rows of a given F, and when testing that its
+#: derivative is continuous (:func:`gosselin_angeles`)
+VARIABLE_STEP = 1e-2
+
+
+def _rows_around(relation, variables, n, step):
+    """Rows of [B A] at each variable moved by ``± step · (1 + |value|)``, shape=[2 · 2n, n, 2n]."""
+    rows = []
+    for index in range(len(variables)):
+        for sign in (-1.0, 1.0):
+            moved = variables.copy()
+            moved[index] += sign * step * (1.0 + abs(moved[index]))
+            with np.errstate(all="ignore"):
+                rows.append(np.hstack(relation.jacobians(moved[:n], moved[n:])))
+    return np.array(rows)
+
+
+def _kinked(near, far):
+    """Whether [B A] jumps across the point: its change over ± step does not shrink with the step.
+
+    For a differentiable F the rows at ±h differ by O(h); where F has a kink
+    (‖w‖ at w = 0, a ±√ at its branch point) they differ by O(1) however
+    small h. `near` and `far` are the rows at ±h/10 and ±h (pairs of rows in
+    order −, +), shape=[2 · 2n, n, 2n].
+    """
+    jump_near = np.linalg.norm(near[1::2] - near[0::2], axis=-1)
+    jump_far = np.linalg.norm(far[1::2] - far[0::2], axis=-1)
+    size = np.max(np.linalg.norm(far, axis=-1), axis=0)
+    with np.errstate(all="ignore"):
+        return bool(np.any((jump_far > 0.1 * size) & (jump_near > 0.5 * jump_far)))
+
+
 def gosselin_angeles(relation, inputs, outputs, rtol=DEFAULT_RTOL, row_scales=None):
     """Classify one configuration (θ, x) with a given relation F (eqs. 3–5).
+
+    Each row of ``[B A]`` is measured against its size around (θ, x): its
+    largest norm there and with each variable moved by
+    ``± VARIABLE_STEP · (1 + |value|)`` (off M), so that a row which vanishes
+    at (θ, x), or on the whole branch of M through it (F written with squared
+    or factored terms), counts as zero. Where A or B is not finite, or, for a
+    relation given by F, ``[B A]`` jumps across (θ, x) (its change over ± h/10
+    is more than half its change over ± h: a kink of F such as ‖w‖ at w = 0),
+    F is not differentiable and G–A is undefined. (A velocity relation, the
+    paper's A and B without F, may have kinks: eq. 12's A = √(1 − sin² θ) at
+    R = l.)
 
     Parameters
     ----------
@@ -347,7 +391,8 @@ def gosselin_angeles(relation, inputs, outputs, rtol=DEFAULT_RTOL, row_scales=No
         θ and x.
     rtol : float
     row_scales : array_like, shape=[n], optional
-        See :func:`kinds_of_matrices`.
+        Sizes of the rows (default: measured around (θ, x) as above); see
+        :func:`kinds_of_matrices`.
 
     Returns
     -------
@@ -358,6 +403,18 @@ def gosselin_angeles(relation, inputs, outputs, rtol=DEFAULT_RTOL, row_scales=No
         raise ValueError(f"relation {relation.name!r}: expected {relation.n} inputs and outputs, got shapes "
                          f"{inputs.shape} and {outputs.shape}")
     b, a = relation.jacobians(inputs, outputs)
+    if row_scales is None and np.all(np.isfinite(b)) and np.all(np.isfinite(a)):
+        variables = np.concatenate([inputs, outputs])
+        far = _rows_around(relation, variables, relation.n, VARIABLE_STEP)
+        near = _rows_around(relation, variables, relation.n, VARIABLE_STEP / 10)
+        finite = np.where(np.isfinite(far), far, 0.0)
+        row_scales = np.max(np.concatenate([np.linalg.norm(np.hstack([b, a]), axis=1)[None],
+                                            np.linalg.norm(finite, axis=-1)]), axis=0)
+        if (relation.residual is not None and np.all(np.isfinite(far)) and np.all(np.isfinite(near))
+                and _kinked(near, far)):
+            return GosselinAngeles(relation.n, b, a, None, None, None, "not_differentiable",
+                                   "[B A] jumps across this configuration: F has a kink here (e.g. ‖w‖ at "
+                                   "w = 0), its derivative is not defined")
     return kinds_of_matrices(b, a, rtol=rtol, row_scales=row_scales)
 
 

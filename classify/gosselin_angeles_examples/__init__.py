@@ -9,7 +9,9 @@ configuration, ready for :func:`classify.comparison.compare`.
 
 Planar examples: the slider-crank (:mod:`.slider_crank`, eqs. 6–17), Watt's
 linkage (:mod:`.watt`, eqs. 18–41), the planar 3-RRR (:mod:`.planar_3rrr`,
-eqs. 42–65).
+eqs. 42–65). Spatial examples: the spherical 3-RRR wrist (:mod:`.spherical_3rrr`,
+eqs. 66–70) and the Gough–Stewart platform (:mod:`.gough_stewart`, eqs. 71–87);
+their orientation chart is in :mod:`._rotations`.
 """
 
 from .planar_3rrr import (
@@ -22,7 +24,8 @@ from .slider_crank import (
 )
 from .watt import WattGeometry, watt_coordinates, watt_factors, watt_geometry, watt_relation, watt_rocker_angle
 
-# spatial examples: added by the maintainer
+from .gough_stewart import GoughStewartGeometry, eq75_relation, eq81_relation, gough_stewart_geometry
+from .spherical_3rrr import SphericalGeometry, eq68_relation, spherical_3rrr_geometry, spherical_3rrr_relation
 
 
 def _slider_crank_branch_relation(function):
@@ -41,6 +44,10 @@ RELATIONS = {
     },
     "watt-six-bar": {"eq32": lambda mechanism, point: watt_relation(mechanism)},
     "planar-3rrr": {"eq44": lambda mechanism, point: planar_3rrr_relation(mechanism)},
+    "spherical-3rrr": {"closure": lambda mechanism, point: spherical_3rrr_relation(mechanism),
+                       "eq68": lambda mechanism, point: eq68_relation(mechanism)},
+    "gough-stewart": {"eq75": lambda mechanism, point: eq75_relation(mechanism),
+                      "eq81": lambda mechanism, point: eq81_relation(mechanism)},
 }
 
 __all__ = [
@@ -50,4 +57,6 @@ __all__ = [
     "WattGeometry", "watt_geometry", "watt_coordinates", "watt_rocker_angle", "watt_factors", "watt_relation",
     "Planar3RRRGeometry", "planar_3rrr_geometry", "planar_3rrr_coordinates", "planar_3rrr_matrices",
     "planar_3rrr_relation",
+    "SphericalGeometry", "spherical_3rrr_geometry", "spherical_3rrr_relation", "eq68_relation",
+    "GoughStewartGeometry", "gough_stewart_geometry", "eq75_relation", "eq81_relation",
 ]

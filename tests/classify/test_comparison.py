@@ -11,7 +11,7 @@ from classify import (
 )
 from classify.gosselin_angeles_examples import eq9_relation, slider_crank_coordinates, squared_relation
 from manifold import AmbientSpace, ImplicitManifold
-from mechanisms import home, to_displacements
+from mechanisms import home
 from mechanisms.catalogue import entry
 
 EXERCISED = set()
