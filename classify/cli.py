@@ -91,6 +91,8 @@ def _parser():
     both.add_argument("--path", type=int, default=0, metavar="N",
                       help="also compare up to N configurations each way along a curve of M through the home, "
                            "and the actuator and end-effector singularities the curve crosses")
+    both.add_argument("--path-step", type=float, default=0.05, metavar="H",
+                      help="distance between configurations along the path (joint-coordinate units, default 0.05)")
     both.add_argument("--format", choices=("json", "text"), default="text")
     _common_options(both)
     listing = commands.add_parser("catalog", help="list the catalogue, describe an entry or write it to a file")
@@ -214,11 +216,29 @@ def _paper_relation(arguments, mechanism, point):
         raise InputError(f"--relation: {arguments.relation} does not apply here: {error}") from None
 
 
+def _path_rows(model, start, count, step):
+    """Labels and points along a path of M through `start`, with the singularities it crosses in place."""
+    path, steps = path_configurations(model, start, count, step=step)
+    crossings = {}
+    for index, point, kind in singular_crossings(model, path):
+        crossings.setdefault(index, []).append((point, kind))
+    labels, points = [], []
+    for index, (point, step) in enumerate(zip(path, steps)):
+        labels.append("home" if step == 0 else f"path{step:+d}")
+        points.append(point)
+        for crossing, kind in crossings.get(index, []):
+            labels.append(f"crossing ({kind.replace('_', '-')})")
+            points.append(crossing)
+    return labels, points
+
+
 def _run_compare(arguments, out):
     _check_length_scale(arguments.length_scale)
     for option in ("samples", "path"):
         if getattr(arguments, option) < 0:
             raise InputError(f"--{option}: expected a count ≥ 0, got {getattr(arguments, option)}")
+    if not (np.isfinite(arguments.path_step) and arguments.path_step > 0):
+        raise InputError(f"--path-step: expected a positive number, got {arguments.path_step}")
     mechanism, named = _source(arguments)
     if arguments.inputs is not None:
         mechanism = actuate(mechanism, _joint_list(arguments.inputs, "--inputs"), where="--inputs")
@@ -234,21 +254,16 @@ def _run_compare(arguments, out):
         model = model_of(mechanism, arguments.length_scale)
     if not len(model.actuators):
         raise InputError(f"--inputs: {mechanism.name!r} has no actuated joint; name the input joints")
-    labels, points = ["home"], [configuration(mechanism, named, where="--configuration").point]
-    for index, text in enumerate(arguments.at, start=1):
-        projected = configuration(mechanism, {**named, **_displacements(text)}, project_onto=arguments.project,
-                                  where="--at")
-        labels.append(f"at{index}")
-        points.append(projected.point)
+    start = configuration(mechanism, named, where="--configuration").point
+    given = [configuration(mechanism, {**named, **_displacements(text)}, project_onto=arguments.project,
+                           where="--at").point for text in arguments.at]
     rng = np.random.default_rng(arguments.seed)
-    model = replace(model, starts=np.stack(points))
+    model = replace(model, starts=np.stack([start, *given]))
+    labels, points = ["home"], [start]
     if arguments.path:
-        path, steps = path_configurations(model, points[0], arguments.path)
-        labels += [f"path{step:+d}" for step in steps if step]
-        points += [point for point, step in zip(path, steps) if step]
-        crossings = singular_crossings(model, path)
-        labels += [f"path-crossing{index}-{kind}" for index, (_, kind) in enumerate(crossings, start=1)]
-        points += [point for point, _ in crossings]
+        labels, points = _path_rows(model, start, arguments.path, arguments.path_step)
+    labels += [f"at{index}" for index in range(1, len(given) + 1)]
+    points += given
     samples = sample_configurations(model, arguments.samples, rng)
     labels += [f"sample{index}" for index in range(1, len(samples) + 1)]
     points += list(samples)

@@ -95,8 +95,10 @@ def singular_crossings(model, points, rtol=DEFAULT_RTOL, tolerance=1e-12, max_bi
 
     Returns
     -------
-    list of (ndarray, str)
-        ``(point, "actuator" | "end_effector")`` in order along the path.
+    list of (int, ndarray, str)
+        ``(index, point, "actuator" | "end_effector")`` in order along the
+        path: the singular point lies between ``points[index]`` and
+        ``points[index + 1]``.
     """
     manifold, ambient = model.manifold, model.manifold.ambient
     scales = ambient.tangent_scales
@@ -127,6 +129,6 @@ def singular_crossings(model, points, rtol=DEFAULT_RTOL, tolerance=1e-12, max_bi
                     low, low_basis, low_value = middle, middle_basis, middle_value
                 else:
                     high = middle
-            found.append((low if abs(low_value) < abs(_determinants(model, high, _aligned_basis(
+            found.append((index, low if abs(low_value) < abs(_determinants(model, high, _aligned_basis(
                 model, high, low_basis, rtol))[which] or np.inf) else high, kind))
     return found

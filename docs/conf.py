@@ -74,5 +74,44 @@ def _write_catalogue_table(app):
         handle.write("\n".join(lines))
 
 
+#: ``closedchain compare`` runs shown in comparison.rst: file stem → arguments
+COMPARISONS = {
+    "branch_point_eq9": ["slider-crank", "--configuration", "fig3b_actuator", "--outputs", "slide",
+                         "--relation", "eq9", "--samples", "3"],
+    "branch_point_eq12": ["slider-crank", "--configuration", "fig3b_actuator", "--outputs", "slide",
+                          "--relation", "eq12", "--samples", "0"],
+    "squared": ["slider-crank", "--param", "crank=3", "--param", "coupler=5", "--param", "theta=1.5707963267948966",
+                "--outputs", "slide", "--relation", "squared", "--samples", "2"],
+    "redundant": ["five-bar", "--inputs", "A,B,D", "--samples", "2"],
+    "idle_freedom": ["gough-stewart", "--configuration", "eq87_parallel_legs", "--samples", "2"],
+    "cspace": ["slider-crank", "--configuration", "fig3a_self_intersection", "--outputs", "slide", "--samples", "2"],
+    "cspace_eq12": ["slider-crank", "--configuration", "fig3a_self_intersection", "--outputs", "slide",
+                    "--relation", "eq12", "--samples", "0"],
+    "stationary": ["gough-stewart", "--configuration", "eq84_leg1_zero_length", "--samples", "0"],
+    "path": ["slider-crank", "--param", "theta=0.4", "--outputs", "slide", "--path", "10", "--path-step", "0.2",
+             "--samples", "0"],
+}
+
+
+def _write_comparisons(app):
+    """Run the ``closedchain compare`` examples of comparison.rst into ``_generated/compare_*.txt``."""
+    import contextlib
+    import io
+
+    from classify.cli import main
+
+    folder = os.path.join(app.srcdir, "_generated")
+    os.makedirs(folder, exist_ok=True)
+    for stem, arguments in COMPARISONS.items():
+        out = io.StringIO()
+        with contextlib.redirect_stderr(io.StringIO()):
+            status = main(["compare", *arguments], out=out)
+        if status != 0:
+            raise RuntimeError(f"closedchain compare {' '.join(arguments)} exited with {status}")
+        with open(os.path.join(folder, f"compare_{stem}.txt"), "w", encoding="utf-8") as handle:
+            handle.write("$ closedchain compare " + " ".join(arguments) + "\n" + out.getvalue())
+
+
 def setup(app):
     app.connect("builder-inited", _write_catalogue_table)
+    app.connect("builder-inited", _write_comparisons)

@@ -167,10 +167,10 @@ def test_a_path_crosses_the_fold_and_the_dead_centre_exactly():
     mechanism, model = slider_crank(theta=0.4)
     points, _ = path_configurations(model, home(mechanism), 40, step=0.05)
     crossings = singular_crossings(model, points)
-    assert [kind for _, kind in crossings] == ["actuator", "end_effector"]
-    angles = [slider_crank_coordinates(mechanism)(point)[0][0] for point, _ in crossings]
+    assert [kind for _, _, kind in crossings] == ["actuator", "end_effector"]
+    angles = [slider_crank_coordinates(mechanism)(point)[0][0] for _, point, _ in crossings]
     np.testing.assert_allclose(angles, [np.arcsin(0.5), 0.0], atol=1e-6)
-    result = compare(model, [point for point, _ in crossings])
+    result = compare(model, [point for _, point, _ in crossings])
     assert [row.gosselin_angeles.kinds for row in result.rows] == [("II",), ("I",)]
     assert [row.park_kim.kinds for row in result.rows] == [("actuator",), ("end_effector",)]
     assert all(row.agree for row in result.rows)
