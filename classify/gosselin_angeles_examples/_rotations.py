@@ -17,7 +17,7 @@ import numpy as np
 import sympy
 
 __all__ = [
-    "rodrigues_series", "RodriguesSeries", "skew_matrix", "rotation_matrix", "left_jacobian", "rotated",
+    "planar_angle", "rodrigues_series", "RodriguesSeries", "skew_matrix", "rotation_matrix", "left_jacobian", "rotated",
     "row_times_left_jacobian", "orientation_from_vectors",
 ]
 
@@ -183,3 +183,8 @@ def orientation_from_vectors(body_vectors, world_vectors):
     sign = np.sign(np.linalg.det(left @ right)) or 1.0
     rotation = left @ np.diag([1.0, 1.0, sign]) @ right
     return rotation, float(np.max(np.linalg.norm(body_vectors @ rotation.T - world_vectors, axis=1)))
+
+
+def planar_angle(pose):
+    """The rotation angle of a planar homogeneous pose, shape=[3, 3] -> float in (−π, π]."""
+    return math.atan2(pose[1, 0], pose[0, 0])

@@ -50,6 +50,7 @@ import sympy
 from mechanisms import link_pose
 
 from ..gosselin_angeles import relation_from_sympy
+from ._rotations import planar_angle
 
 __all__ = ["Planar3RRRGeometry", "planar_3rrr_geometry", "planar_3rrr_coordinates", "planar_3rrr_matrices",
            "planar_3rrr_relation"]
@@ -108,10 +109,6 @@ class Planar3RRRGeometry:
 def _angle(vector):
     return math.atan2(float(vector[1]), float(vector[0]))
 
-
-def _planar_angle(pose):
-    """The rotation angle of a planar homogeneous pose, shape=[3, 3]."""
-    return math.atan2(pose[1, 0], pose[0, 0])
 
 
 def planar_3rrr_geometry(mechanism):
@@ -178,11 +175,11 @@ def planar_3rrr_coordinates(mechanism, geometry=None):
     centroid_home = np.append(geometry.centroid, 1.0)
 
     def coordinates(point):
-        theta = geometry.theta_home + np.array([_planar_angle(link_pose(mechanism, f"proximal{leg}", point))
+        theta = geometry.theta_home + np.array([planar_angle(link_pose(mechanism, f"proximal{leg}", point))
                                                 for leg in (1, 2, 3)])
         gripper = link_pose(mechanism, "gripper", point)
         centre = (gripper @ centroid_home)[:2]
-        return theta, np.array([centre[0], centre[1], geometry.phi_home + _planar_angle(gripper)])
+        return theta, np.array([centre[0], centre[1], geometry.phi_home + planar_angle(gripper)])
     return coordinates
 
 

@@ -49,6 +49,7 @@ import sympy
 from mechanisms import link_pose
 
 from ..gosselin_angeles import relation_from_sympy
+from ._rotations import planar_angle
 
 __all__ = [
     "SliderCrankGeometry", "slider_crank_geometry", "slider_crank_coordinates", "slider_crank_branch",
@@ -95,10 +96,6 @@ class SliderCrankGeometry:
         """``{R: crank, l: coupler}`` as SymPy parameters of the relations."""
         return {_CRANK: self.crank, _COUPLER: self.coupler}
 
-
-def _planar_angle(pose):
-    """The rotation angle of a planar homogeneous pose, shape=[3, 3] -> float in (−π, π]."""
-    return math.atan2(pose[1, 0], pose[0, 0])
 
 
 def _cross(first, second):
@@ -162,7 +159,7 @@ def slider_crank_coordinates(mechanism, geometry=None):
     wrist_home = np.append(geometry.wrist, 1.0)
 
     def coordinates(point):
-        theta = geometry.theta_home + _planar_angle(link_pose(mechanism, "crank", point))
+        theta = geometry.theta_home + planar_angle(link_pose(mechanism, "crank", point))
         wrist = (link_pose(mechanism, "slider", point) @ wrist_home)[:2]
         return np.array([theta]), np.array([float(np.dot(wrist - geometry.pivot, geometry.axis))])
     return coordinates

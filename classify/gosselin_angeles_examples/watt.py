@@ -55,6 +55,7 @@ import numpy as np
 from mechanisms import link_pose
 
 from ..gosselin_angeles import relation_from_callables
+from ._rotations import planar_angle
 
 __all__ = ["WattGeometry", "watt_geometry", "watt_coordinates", "watt_rocker_angle", "watt_factors",
            "watt_relation"]
@@ -99,10 +100,6 @@ class WattGeometry:
 def _angle(vector):
     return math.atan2(float(vector[1]), float(vector[0]))
 
-
-def _planar_angle(pose):
-    """The rotation angle of a planar homogeneous pose, shape=[3, 3]."""
-    return math.atan2(pose[1, 0], pose[0, 0])
 
 
 def watt_geometry(mechanism):
@@ -163,8 +160,8 @@ def watt_coordinates(mechanism, geometry=None):
     geometry = watt_geometry(mechanism) if geometry is None else geometry
 
     def coordinates(point):
-        theta = geometry.theta_home + _planar_angle(link_pose(mechanism, "crank", point))
-        output = geometry.output_home + _planar_angle(link_pose(mechanism, "output", point))
+        theta = geometry.theta_home + planar_angle(link_pose(mechanism, "crank", point))
+        output = geometry.output_home + planar_angle(link_pose(mechanism, "output", point))
         return np.array([theta]), np.array([math.pi - output])
     return coordinates
 
