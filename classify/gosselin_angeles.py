@@ -282,8 +282,11 @@ class GosselinAngeles:
         def decision(value):
             return None if value is None else value.to_dict()
 
-        def matrix(value):
-            return None if value is None else np.asarray(value, dtype=float).tolist()
+        def matrix(value):  # JSON has no inf or nan: a non-finite entry is null
+            if value is None:
+                return None
+            return [[float(entry) if np.isfinite(entry) else None for entry in row]
+                    for row in np.asarray(value, dtype=float)]
         return {
             "kinds": list(self.kinds), "rank_A": self.rank_A, "rank_B": self.rank_B, "n": int(self.n),
             "defined": self.defined, "undefined": self.undefined, "detail": self.detail,

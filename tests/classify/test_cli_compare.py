@@ -62,7 +62,8 @@ def test_compare_with_the_papers_relation(capsys):
             "--format", "json"]
     status, out, err = run(base + ["--relation", "eq9"], capsys)
     assert status == 0, err
-    result = json.loads(out)
+    result = json.loads(out, parse_constant=lambda name: pytest.fail(f"{name} is not JSON"))
+    assert result["configurations"][0]["gosselin_angeles"]["B"] == [[None]]  # ∂F/∂θ infinite
     assert result["gosselin_angeles_source"].startswith("eq9")
     assert result["configurations"][0]["reason"] == "not_differentiable"
     status, out, err = run(base + ["--relation", "eq12"], capsys)
