@@ -7,7 +7,7 @@ singularities; reports. Imports :mod:`mechanisms` and :mod:`manifold`.
 
 from .classification import classify, classify_many
 from .comparison import (
-    REASONS, Comparison, ComparisonRow, compare, correspondence, expected_kinds, sample_configurations,
+    REASONS, Comparison, ComparisonRow, compare, comparison_row, correspondence, expected_kinds, sample_configurations,
 )
 from .gosselin_angeles import (
     GA_KINDS, GosselinAngeles, InputOutputRelation, derived_gosselin_angeles, gosselin_angeles,
@@ -25,7 +25,7 @@ from .survey import Survey, survey
 
 __all__ = [
     "classify", "classify_many",
-    "REASONS", "Comparison", "ComparisonRow", "compare", "correspondence", "expected_kinds",
+    "REASONS", "Comparison", "ComparisonRow", "compare", "comparison_row", "correspondence", "expected_kinds",
     "sample_configurations", "path_configurations", "singular_crossings",
     "GA_KINDS", "GosselinAngeles", "InputOutputRelation", "derived_gosselin_angeles", "gosselin_angeles",
     "kinds_of_matrices", "relation_from_callables", "relation_from_sympy",

@@ -31,7 +31,7 @@ from mechanisms import catalogue
 from mechanisms.io import read, save
 
 from .classification import classify
-from .comparison import compare, sample_configurations
+from .comparison import compare, comparison_row, sample_configurations
 from .gosselin_angeles_examples import RELATIONS
 from .paths import path_configurations, singular_crossings
 from .model import joint_output_model, model_of
@@ -335,11 +335,12 @@ def _mechanism_files(paths):
 
 
 def report_table(reports):
-    """A fixed-width table of (source, configuration name, Report) rows; the source is a catalogue
-    name or a file."""
-    header = ("source", "configuration", "dof", "kinds", "C-space", "actuator", "end-effector", "κ")
+    """A fixed-width table of (source, configuration name, Report, ComparisonRow) rows; the source is a
+    catalogue name or a file, the last column Gosselin–Angeles's kinds from the derived matrices."""
+    header = ("source", "configuration", "dof", "kinds", "C-space", "actuator", "end-effector", "κ",
+              "G–A (derived)")
     rows = []
-    for source, name, report in reports:
+    for source, name, report, comparison in reports:
         def rank(result):
             return "-" if result is None else f"{result.rank}/{result.expected_rank}"
         actuator = rank(report.actuator) + (f" {report.degeneracy}" if report.degeneracy else "")
@@ -347,8 +348,11 @@ def report_table(reports):
         if report.manipulability is not None:
             value = report.manipulability.condition_number
             condition = "∞" if value is None else f"{value:.3g}"
+        ga = comparison.gosselin_angeles
+        kinds = (", ".join(ga.kinds) or "regular") if ga.defined else "undefined"
         rows.append((source, name, str(report.dof), ", ".join(report.kinds) or "regular",
-                     rank(report.cspace), actuator, rank(report.end_effector), condition))
+                     rank(report.cspace), actuator, rank(report.end_effector), condition,
+                     kinds + ("" if comparison.agree else f" ({comparison.reason})")))
     widths = [max(len(row[i]) for row in rows + [header]) for i in range(len(header))]
     lines = ["  ".join(cell.ljust(width) for cell, width in zip(row, widths)).rstrip()
              for row in [header] + rows]
@@ -356,8 +360,14 @@ def report_table(reports):
     return "\n".join(lines)
 
 
+def _reported(model, name, point, survey, rng):
+    """(Report, ComparisonRow) of one configuration: Park–Kim, then the derived Gosselin–Angeles side."""
+    report = classify(model, point, survey=survey, rng=rng)
+    return report, comparison_row(model, point, report, name)
+
+
 def _file_reports(paths, arguments):
-    """(file, configuration name, Report) for every mechanism file under the paths."""
+    """(file, configuration name, Report, ComparisonRow) for every mechanism file under the paths."""
     for path in _mechanism_files(paths):
         document = read(path)
         mechanism = document.mechanism
@@ -370,18 +380,32 @@ def _file_reports(paths, arguments):
         shared = survey_mechanism(model, rng, starts=np.stack(list(points.values())))
         for name, point in points.items():
             print(f"classifying {path} [{name}]", file=sys.stderr)
-            yield str(path), name, classify(model, point, survey=shared, rng=rng)
+            yield (str(path), name, *_reported(model, name, point, shared, rng))
 
 
 def _catalogue_reports(items, arguments):
-    """(entry name, configuration name, Report) for catalogue entries at each named configuration."""
+    """(entry name, configuration name, Report, ComparisonRow) for catalogue entries at each named
+    configuration."""
     for item in items:
         for name in ("default", *item.configurations):
             print(f"classifying {item.name} [{name}]", file=sys.stderr)
             mechanism = item.mechanism(None if name == "default" else name)
             rng = np.random.default_rng(arguments.seed)
-            yield item.name, name, classify(mechanism, home(mechanism), rng=rng,
-                                            length_scale=arguments.length_scale)
+            yield (item.name, name, *_reported(model_of(mechanism, arguments.length_scale), name, home(mechanism),
+                                                None, rng))
+
+
+def _comparison_dict(comparison):
+    """The G–A side of a report row (additive to the classify JSON)."""
+    return {"gosselin_angeles": comparison.gosselin_angeles.to_dict(), "agree": bool(comparison.agree),
+            "reason": comparison.reason, "note": comparison.note}
+
+
+def _comparison_text(comparison):
+    ga = comparison.gosselin_angeles
+    kinds = (", ".join(ga.kinds) or "regular") if ga.defined else "undefined"
+    verdict = "corresponds" if comparison.agree else f"differs: {comparison.reason}"
+    return f"{kinds} ({verdict}; {comparison.note})"
 
 
 def _run_report(arguments, out):
@@ -392,10 +416,13 @@ def _run_report(arguments, out):
     if paths:
         reports += list(_file_reports(paths, arguments))
     if arguments.format == "json":
-        text = json.dumps([{"source": source, "configuration_name": name, **report.to_dict()}
-                           for source, name, report in reports], indent=2, ensure_ascii=False)
+        text = json.dumps([{"source": source, "configuration_name": name, **report.to_dict(),
+                            "comparison": _comparison_dict(comparison)}
+                           for source, name, report, comparison in reports], indent=2, ensure_ascii=False)
     else:
-        details = "\n\n".join(f"== {path} [{name}]\n{report.to_text()}" for path, name, report in reports)
+        details = "\n\n".join(f"== {path} [{name}]\n{report.to_text()}\n  Gosselin–Angeles (derived): "
+                               f"{_comparison_text(comparison)}"
+                               for path, name, report, comparison in reports)
         text = report_table(reports) + "\n\n" + details
     out.write(text + "\n")
     if arguments.output:

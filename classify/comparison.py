@@ -31,7 +31,7 @@ from .gosselin_angeles import GA_KINDS, derived_gosselin_angeles, gosselin_angel
 from .model import model_of
 from .survey import survey as survey_model
 
-__all__ = ["REASONS", "expected_kinds", "correspondence", "ComparisonRow", "Comparison", "compare",
+__all__ = ["REASONS", "expected_kinds", "correspondence", "ComparisonRow", "Comparison", "comparison_row", "compare",
            "sample_configurations"]
 
 #: the closed list of reasons for a disagreement (or an undefined G–A classification)
@@ -265,6 +265,39 @@ def _consistent(result, velocities):
     return float(np.linalg.norm(rows @ velocities, 2)) <= CONSISTENCY_TOLERANCE * size
 
 
+def comparison_row(model, point, report, label="", relation=None, coordinates=None, rtol=DEFAULT_RTOL):
+    """The G–A side of one configuration already classified by Park–Kim, and how the two correspond.
+
+    Parameters
+    ----------
+    model : Model
+    point : ndarray, shape=[point_size]
+    report : Report
+        Park–Kim's classification of `point` (:func:`classify.classify`).
+    label : str
+    relation : InputOutputRelation, optional
+        A given F (default: the matrices derived from the mechanism).
+    coordinates : callable, optional
+        ``coordinates(point) -> (theta, x)``; required with `relation`.
+    rtol : float
+
+    Returns
+    -------
+    ComparisonRow
+    """
+    basis = tangent_basis(model.manifold, point, rtol=rtol)[0]
+    consistent = True
+    if relation is None:
+        result = derived_gosselin_angeles(model, point, basis, rtol=rtol)
+    else:
+        theta, x = coordinates(point)
+        result = gosselin_angeles(relation, theta, x, rtol=rtol)
+        if "cspace" not in report.kinds:
+            consistent = _consistent(result, _relation_velocities(model, point, basis, coordinates))
+    agree, reason, note = correspondence(report, result, consistent)
+    return ComparisonRow(label, report, result, agree, reason, note)
+
+
 def compare(mechanism, points, labels=None, relation=None, coordinates=None, survey=None, rng=None,
             rtol=DEFAULT_RTOL, length_scale=None, input_names=None, output_names=None):
     """Classify configurations both ways and explain every difference.
@@ -307,20 +340,9 @@ def compare(mechanism, points, labels=None, relation=None, coordinates=None, sur
         raise ValueError(f"{len(labels)} labels for {len(points)} configurations")
     if survey is None:
         survey = survey_model(model, rng, starts=np.concatenate([model.starts, points]), rtol=rtol)
-    rows = []
-    for label, point in zip(labels, points):
-        report = classify(model, point, survey=survey, rng=rng, rtol=rtol)
-        basis = tangent_basis(model.manifold, point, rtol=rtol)[0]
-        consistent = True
-        if relation is None:
-            result = derived_gosselin_angeles(model, point, basis, rtol=rtol)
-        else:
-            theta, x = coordinates(point)
-            result = gosselin_angeles(relation, theta, x, rtol=rtol)
-            if not ("cspace" in report.kinds):
-                consistent = _consistent(result, _relation_velocities(model, point, basis, coordinates))
-        agree, reason, note = correspondence(report, result, consistent)
-        rows.append(ComparisonRow(label, report, result, agree, reason, note))
+    rows = [comparison_row(model, point, classify(model, point, survey=survey, rng=rng, rtol=rtol), label,
+                           relation, coordinates, rtol)
+            for label, point in zip(labels, points)]
     names = model.coordinate_names
     if input_names is None:
         input_names = relation.input_names if relation is not None else tuple(

@@ -190,3 +190,15 @@ def test_report_of_catalogue_entries_and_files(capsys):
     named = {row["configuration_name"]: row["kinds"] for row in rows if row["source"] == "slider-crank"}
     assert named["default"] == [] and named["fig3b_actuator"] == ["actuator"]
     assert "classifying slider-crank [fig3b_actuator]" in err
+
+
+def test_report_puts_the_derived_gosselin_angeles_kinds_next_to_park_kim(capsys):
+    """An additive column and JSON field: the five-bar's Fig. 6a is kind II and corresponds."""
+    status, out, _ = run(["report", "five-bar", "--format", "json"], capsys)
+    assert status == 0
+    rows = {row["configuration_name"]: row for row in json.loads(out)}
+    comparison = rows["fig6a_distal_aligned"]["comparison"]
+    assert comparison["gosselin_angeles"]["kinds"] == ["II"] and comparison["agree"] is True
+    assert rows["fig1a_collinear"]["comparison"]["reason"] == "cspace_singularity"
+    status, out, _ = run(["report", "five-bar"], capsys)
+    assert "G–A (derived)" in out.splitlines()[0] and "undefined (cspace_singularity)" in out
