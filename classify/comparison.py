@@ -81,6 +81,7 @@ def expected_kinds(report):
 
 
 def _near_cut(decision, factor=100.0):
+    """Whether a rank decision has a singular value within `factor` of its cut (either side)."""
     if decision is None:
         return False
     values = np.asarray(decision.singular_values)
