@@ -395,12 +395,6 @@ def _catalogue_reports(items, arguments):
                                                 None, rng))
 
 
-def _comparison_dict(comparison):
-    """The G–A side of a report row (additive to the classify JSON)."""
-    return {"gosselin_angeles": comparison.gosselin_angeles.to_dict(), "agree": bool(comparison.agree),
-            "reason": comparison.reason, "note": comparison.note}
-
-
 def _comparison_text(comparison):
     ga = comparison.gosselin_angeles
     kinds = (", ".join(ga.kinds) or "regular") if ga.defined else "undefined"
@@ -417,7 +411,7 @@ def _run_report(arguments, out):
         reports += list(_file_reports(paths, arguments))
     if arguments.format == "json":
         text = json.dumps([{"source": source, "configuration_name": name, **report.to_dict(),
-                            "comparison": _comparison_dict(comparison)}
+                            "comparison": comparison.to_dict(park_kim=False)}
                            for source, name, report, comparison in reports], indent=2, ensure_ascii=False)
     else:
         details = "\n\n".join(f"== {path} [{name}]\n{report.to_text()}\n  Gosselin–Angeles (derived): "

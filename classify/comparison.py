@@ -163,9 +163,12 @@ class ComparisonRow:
     reason: Optional[str]
     note: str
 
-    def to_dict(self):
-        return {"configuration": self.label, "park_kim": self.park_kim.to_dict(),
-                "gosselin_angeles": self.gosselin_angeles.to_dict(), "agree": bool(self.agree),
+    def to_dict(self, park_kim=True):
+        """The row as JSON; ``park_kim=False`` leaves out the Park–Kim report (given elsewhere)."""
+        result = {"configuration": self.label}
+        if park_kim:
+            result["park_kim"] = self.park_kim.to_dict()
+        return {**result, "gosselin_angeles": self.gosselin_angeles.to_dict(), "agree": bool(self.agree),
                 "reason": self.reason, "note": self.note}
 
 

@@ -95,6 +95,14 @@ def skew_matrix(vector):
     return sympy.Matrix([[0, -third, second], [third, 0, -first], [-second, first, 0]])
 
 
+def _series_polynomial(vector, order):
+    """1 + g_order(‖r‖²)[r]× + g_(order+1)(‖r‖²)[r]×², SymPy, shape=[3, 3]."""
+    square = sum(component ** 2 for component in vector)
+    skew = skew_matrix(vector)
+    return (sympy.eye(3) + RodriguesSeries(order, 0, square) * skew
+            + RodriguesSeries(order + 1, 0, square) * skew * skew)
+
+
 def rotation_matrix(vector):
     """expm([r]×) = 1 + g₁(‖r‖²)[r]× + g₂(‖r‖²)[r]×² (Rodrigues), SymPy, shape=[3, 3].
 
@@ -103,10 +111,7 @@ def rotation_matrix(vector):
     vector : sequence of sympy.Expr, length 3
         The rotation vector r.
     """
-    square = sum(component ** 2 for component in vector)
-    skew = skew_matrix(vector)
-    return (sympy.eye(3) + RodriguesSeries(1, 0, square) * skew
-            + RodriguesSeries(2, 0, square) * skew * skew)
+    return _series_polynomial(vector, 1)
 
 
 def left_jacobian(vector):
@@ -120,10 +125,7 @@ def left_jacobian(vector):
     vector : sequence of sympy.Expr, length 3
         The rotation vector r.
     """
-    square = sum(component ** 2 for component in vector)
-    skew = skew_matrix(vector)
-    return (sympy.eye(3) + RodriguesSeries(2, 0, square) * skew
-            + RodriguesSeries(3, 0, square) * skew * skew)
+    return _series_polynomial(vector, 2)
 
 
 def rotated(vector, rotation_vector):
