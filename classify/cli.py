@@ -29,6 +29,7 @@ import numpy as np
 from mechanisms import ConfigurationError, MechanismError, actuate, configuration, home
 from mechanisms import catalogue
 from mechanisms.io import read, save
+from mechanisms.joints import joint_coordinate_names
 
 from .classification import classify
 from .comparison import compare, comparison_row, sample_configurations
@@ -246,8 +247,7 @@ def _run_compare(arguments, out):
     if arguments.outputs is not None:
         outputs = _joint_list(arguments.outputs, "--outputs")
         model = joint_output_model(mechanism, outputs, where="--outputs")
-        output_names = tuple(name for joint in outputs for name in model.coordinate_names
-                             if name == joint or name.startswith(joint + "."))
+        output_names = tuple(name for joint in outputs for name in joint_coordinate_names(mechanism.joint(joint)))
     elif mechanism.end_effector is None:
         raise InputError(f"--outputs: {mechanism.name!r} has no end-effector; name the output joints")
     else:
@@ -348,11 +348,9 @@ def report_table(reports):
         if report.manipulability is not None:
             value = report.manipulability.condition_number
             condition = "∞" if value is None else f"{value:.3g}"
-        ga = comparison.gosselin_angeles
-        kinds = (", ".join(ga.kinds) or "regular") if ga.defined else "undefined"
         rows.append((source, name, str(report.dof), ", ".join(report.kinds) or "regular",
                      rank(report.cspace), actuator, rank(report.end_effector), condition,
-                     kinds + ("" if comparison.agree else f" ({comparison.reason})")))
+                     comparison.gosselin_angeles.label + ("" if comparison.agree else f" ({comparison.reason})")))
     widths = [max(len(row[i]) for row in rows + [header]) for i in range(len(header))]
     lines = ["  ".join(cell.ljust(width) for cell, width in zip(row, widths)).rstrip()
              for row in [header] + rows]
@@ -396,10 +394,8 @@ def _catalogue_reports(items, arguments):
 
 
 def _comparison_text(comparison):
-    ga = comparison.gosselin_angeles
-    kinds = (", ".join(ga.kinds) or "regular") if ga.defined else "undefined"
     verdict = "corresponds" if comparison.agree else f"differs: {comparison.reason}"
-    return f"{kinds} ({verdict}; {comparison.note})"
+    return f"{comparison.gosselin_angeles.label} ({verdict}; {comparison.note})"
 
 
 def _run_report(arguments, out):

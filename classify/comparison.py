@@ -224,9 +224,8 @@ class Comparison:
             pk = ", ".join(report.kinds) or "regular"
             if report.degeneracy:
                 pk += f" ({report.degeneracy})"
-            kinds = (", ".join(ga.kinds) or "regular") if ga.defined else "undefined"
             rank = (lambda value: "-" if value is None else f"{value}/{ga.n}")
-            table.append((row.label, pk, kinds, rank(ga.rank_A), rank(ga.rank_B),
+            table.append((row.label, pk, ga.label, rank(ga.rank_A), rank(ga.rank_B),
                           "yes" if row.agree else "NO", row.reason or ""))
         widths = [max(len(line[i]) for line in table + [header]) for i in range(len(header))]
         lines = [f"{self.mechanism}: Park–Kim and Gosselin–Angeles ({self.source}); "

@@ -277,6 +277,11 @@ class GosselinAngeles:
         first, second = self.rank_B < self.n, self.rank_A < self.n
         return tuple(kind for kind, holds in zip(GA_KINDS, (first, second, first and second)) if holds)
 
+    @property
+    def label(self):
+        """``"I, II, III"``-style kinds, ``"regular"`` or ``"undefined"``, for tables."""
+        return (", ".join(self.kinds) or "regular") if self.defined else "undefined"
+
     def to_dict(self):
         """``kinds``, ``rank_A``, ``rank_B``, ``n`` (the contract of ``closedchain compare``) and details."""
         def decision(value):

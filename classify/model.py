@@ -105,20 +105,10 @@ def joint_output_model(mechanism, joint_names, where="outputs"):
     -------
     Model
     """
-    order = list(joint_names)
-    actuate(mechanism, order, where=where)  # validates the names
-    rows = []
-    start = 0
-    for joint in mechanism.joints:
-        size = len(joint_coordinate_names(joint))
-        if joint.name in order:
-            rows.append((order.index(joint.name), start, size))
-        start += size
-    selection = np.zeros((sum(size for _, _, size in rows), mechanism.ambient_dimension))
-    row = 0
-    for _, start, size in sorted(rows):
-        selection[row:row + size, start:start + size] = np.eye(size)
-        row += size
+    joint_names = list(joint_names)
+    actuate(mechanism, joint_names, where=where)  # validates the names
+    outputs = [name for joint in joint_names for name in joint_coordinate_names(mechanism.joint(joint))]
+    selection = np.eye(mechanism.ambient_dimension)[[mechanism.coordinate_names.index(name) for name in outputs]]
     base = model_of(mechanism)
     return replace(base, end_effector_jacobian=lambda point: selection,
                    end_effector_metric=np.eye(selection.shape[0]))
