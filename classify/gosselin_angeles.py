@@ -414,12 +414,15 @@ def gosselin_angeles(relation, inputs, outputs, rtol=DEFAULT_RTOL, row_scales=No
     if row_scales is None and np.all(np.isfinite(b)) and np.all(np.isfinite(a)):
         variables = np.concatenate([inputs, outputs])
         far = _rows_around(relation, variables, relation.n, VARIABLE_STEP)
-        near = _rows_around(relation, variables, relation.n, VARIABLE_STEP / 10)
         finite = np.where(np.isfinite(far), far, 0.0)
         row_scales = np.max(np.concatenate([np.linalg.norm(np.hstack([b, a]), axis=1)[None],
                                             np.linalg.norm(finite, axis=-1)]), axis=0)
-        if (relation.residual is not None and np.all(np.isfinite(far)) and np.all(np.isfinite(near))
-                and _kinked(near, far)):
+        if relation.residual is not None and np.all(np.isfinite(far)):
+            near = _rows_around(relation, variables, relation.n, VARIABLE_STEP / 10)
+            kinked = np.all(np.isfinite(near)) and _kinked(near, far)
+        else:
+            kinked = False
+        if kinked:
             return GosselinAngeles(relation.n, b, a, None, None, None, "not_differentiable",
                                    "[B A] jumps across this configuration: F has a kink here (e.g. ‖w‖ at "
                                    "w = 0), its derivative is not defined")
