@@ -1,6 +1,6 @@
-"""The Park-Kim classification of a configuration (`001_f823d888d0445bda.txt`, Section 3).
+"""The Park-Kim classification of a configuration (Park & Kim 1999, Section 3).
 
-Each kind is a rank drop below the rank expected of it (DESIGN.md, "The
+Each kind is a rank drop below the rank expected of it (docs/design.rst, "The
 three kinds"):
 
 * C-space: ``rank DΦ(p) < r``, r the rank of DΦ on M near p;

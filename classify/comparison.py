@@ -1,6 +1,6 @@
 """Park–Kim and Gosselin–Angeles side by side, with every disagreement explained.
 
-The correspondence (DESIGN.md, "Gosselin–Angeles"): G–A kind I (det B = 0)
+The correspondence (docs/design.rst, "Gosselin–Angeles"): G–A kind I (det B = 0)
 ↔ an end-effector singularity, kind II (det A = 0) ↔ an actuator
 singularity, kind III (both) ↔ both, or a C-space singularity. Where the two
 differ, or G–A is not defined, the row carries one reason of :data:`REASONS`,
@@ -9,7 +9,7 @@ suite requires that it never occurs on the catalogue.
 
 Gosselin & Angeles call a configuration "third kind" when, for special
 architectures, the chain has a finite motion with the actuators locked
-(`000_cb500b1ffad40f57.txt`, Section II, item 3; eq. 87); with their own
+(Gosselin & Angeles 1990, Section II, item 3; eq. 87); with their own
 matrices det B need not vanish there (eq. 83), so such a configuration is
 kind II here and Park–Kim's *degenerate* actuator singularity, which the row's
 note points out.

@@ -1,6 +1,6 @@
 """The Gosselin–Angeles matrices A = ∂F/∂x, B = ∂F/∂θ and their kinds I, II, III.
 
-Gosselin & Angeles (`000_cb500b1ffad40f57.txt`, eqs. 1–5) relate n inputs θ
+Gosselin & Angeles (1990, eqs. 1–5) relate n inputs θ
 (actuated coordinates) and n outputs x by F(θ, x) = 0, so that
 ``A ẋ + B θ̇ = 0`` (eq. 2) with ``A = ∂F/∂x`` and ``B = ∂F/∂θ`` (eq. 3):
 

@@ -1,6 +1,6 @@
 """Metrics on K, M and N, and the manipulability proper values.
 
-Park & Kim (`001_f823d888d0445bda.txt`), Section 2:
+Park & Kim (1999), Section 2:
 
 * E on K, the actuator metric: ``ds² = Σ εᵢ dxᵢ²`` with εᵢ the weight of an
   actuated coordinate and 0 for a passive one (eq. 5), possibly semidefinite.

@@ -90,7 +90,7 @@ def joint_output_model(mechanism, joint_names, where="outputs"):
     """The :class:`Model` of a mechanism whose outputs are joint coordinates (metric H = identity).
 
     Gosselin & Angeles allow outputs that are "joint angles or displacements"
-    (`000_cb500b1ffad40f57.txt`, Section II): the slider's displacement of the
+    (Gosselin & Angeles 1990, Section II): the slider's displacement of the
     RRRP (eq. 9), the output angle φ of the Watt linkage (eq. 31).
 
     Parameters

@@ -125,7 +125,7 @@ class Report:
         return "undetermined" if self.second_order is None else self.second_order.degeneracy
 
     def to_dict(self):
-        """The contract's JSON object (DESIGN.md, "CLI"), with additive details."""
+        """The contract's JSON object (docs/design.rst, "CLI"), with additive details."""
         names = self.coordinate_names
         actuator = self.actuator.to_dict(names)
         actuator["degeneracy"] = self.degeneracy

@@ -1,6 +1,6 @@
 """Second-order test: degenerate vs nondegenerate actuator singularities.
 
-Park & Kim (`001_f823d888d0445bda.txt`, eqs. 9-10) separate the two cases
+Park & Kim (1999, eqs. 9-10) separate the two cases
 by the Hessian of ``f(p) = ½|π(p) − π(p̄)|²`` on M at p̄. In any chart u
 of M, ``∂²f/∂uᵢ∂uⱼ(p̄) = Σ_a ∂π_a/∂uᵢ ∂π_a/∂uⱼ`` (the terms with
 ``π − π(p̄)`` vanish at p̄), i.e. the Hessian *is* G. At every actuator

@@ -1,6 +1,6 @@
 """Global survey of a mechanism's C-space: the largest ranks reached on M.
 
-DESIGN.md: the expected ranks of G and J are ``min(m, the largest rank G
+docs/design.rst: the expected ranks of G and J are ``min(m, the largest rank G
 reaches on M)`` and ``min(dim N, m, the largest rank J reaches on M)``. The
 largest ranks are estimated from points of M spread over several assembly
 branches (:func:`manifold.sample_manifold`); the estimate and the number of
@@ -54,7 +54,7 @@ class Survey:
         An idle freedom that moves the end-effector means that, with the
         actuators locked, the end-effector is not fixed anywhere on M: an
         architecture singularity (e.g. a Gough–Stewart platform with similar
-        hexagons, Gosselin & Angeles ``000_cb500b1ffad40f57.txt`` eq. 87), or
+        hexagons, Gosselin & Angeles 1990 eq. 87), or
         a motion the task ignores (the spin of an axisymmetric tool).
         """
         return 0 if self.joint_rank is None else max(0, self.joint_rank - self.actuator_rank)

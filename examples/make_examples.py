@@ -1,6 +1,6 @@
 """Write the example mechanism files of this folder (run: ``python examples/make_examples.py``).
 
-Each file holds one design of a Park & Kim (`001_f823d888d0445bda.txt`)
+Each file holds one design of a Park & Kim (1999)
 example at a regular home configuration and, under ``configurations``, the
 joint displacements from home of the singular configurations of the paper's
 figures. Displacements are computed from the target joint positions, so the
@@ -83,7 +83,7 @@ def five_bar():
     configurations = {name: planar_displacements(mechanism, home, five_bar_angles(*target))
                       for name, target in targets.items()}
     save(mechanism, HERE / "five_bar.yaml", configurations=configurations,
-         description="Park & Kim (001_f823d888d0445bda.txt) planar five-bar, eq. (8): base 2, "
+         description="Park & Kim (1999) planar five-bar, eq. (8): base 2, "
                      "proximal and distal links 1, base joints J1 and J5 actuated, end-effector at "
                      "the middle joint J3. Configurations: Figs. 1 and 6.")
 

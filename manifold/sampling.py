@@ -3,7 +3,7 @@
 The rank r of DΦ *on M near p* is estimated by projecting a few random
 points of a small ball around p back onto M and taking the largest rank of
 DΦ found there (at a singular point of M, nearby points are regular). The
-local dimension is then ``m = k − r`` (DESIGN.md, "Dimension").
+local dimension is then ``m = k − r`` (docs/design.rst, "Dimension").
 """
 
 from __future__ import annotations

@@ -1,7 +1,7 @@
 """Configurations: points of the ambient space built from joint displacements.
 
 A configuration is ``home ⊕ displacement``: the home (all joint values zero,
-rotations identity) moved by the joint values the user gives (DESIGN.md,
+rotations identity) moved by the joint values the user gives (docs/design.rst,
 "Mechanism file"). A configuration that does not close the loops is refused
 unless it is projected onto the C-space.
 """

@@ -1,6 +1,6 @@
 """Reading and writing mechanism files (JSON or YAML, one schema).
 
-The schema is the contract of DESIGN.md, "Mechanism file"::
+The schema is the contract of docs/design.rst, "Mechanism file"::
 
     name: five-bar
     space: planar            # planar | spherical | spatial

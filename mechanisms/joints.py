@@ -2,7 +2,7 @@
 
 Geometry is that of the assembled reference configuration ("home"), in the
 ground frame; a joint value is the displacement of the second listed link
-relative to the first (DESIGN.md, "Mechanism file").
+relative to the first (docs/design.rst, "Mechanism file").
 
 =====  ===============================  ==============================  ===========
 type   fields                           value                           factors

@@ -3,7 +3,7 @@
 The same physical mechanism can be described from any assembled
 configuration as its home, in any base frame, with either sign of each joint
 axis. These operations build the other descriptions, so that tests can check
-that the classification does not depend on them (DESIGN.md, "Metrics").
+that the classification does not depend on them (docs/design.rst, "Metrics").
 """
 
 from __future__ import annotations

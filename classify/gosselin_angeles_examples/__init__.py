@@ -3,7 +3,7 @@
 Each function takes a catalogue mechanism (and the paper's branch signs where
 needed) and returns ``(relation, coordinates)``: an
 :class:`~classify.gosselin_angeles.InputOutputRelation` written as in
-Gosselin & Angeles (``000_cb500b1ffad40f57.txt``) and ``coordinates(point) ->
+Gosselin & Angeles (1990) and ``coordinates(point) ->
 (theta, x)``, the relation's variables read from the mechanism's geometry at a
 configuration, ready for :func:`classify.comparison.compare`.
 

@@ -5,7 +5,7 @@ Q = expm([r]×) by Rodrigues' formula with the entire functions gₘ(s) of
 derivatives are finite at r = 0; the left Jacobian ω = J_left(r) ṙ; the
 orientation that best maps body vectors to world vectors (Kabsch). Used by the
 spherical 3-RRR and Gough–Stewart relations of Gosselin & Angeles
-(``000_cb500b1ffad40f57.txt``, eqs. 67 and 79, whose A multiplies ω).
+(Gosselin & Angeles 1990, eqs. 67 and 79, whose A multiplies ω).
 """
 
 from __future__ import annotations

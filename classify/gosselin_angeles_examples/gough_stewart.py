@@ -1,4 +1,4 @@
-"""Gosselin–Angeles relations of the Gough–Stewart platform (``000_cb500b1ffad40f57.txt``, eqs. 71–87).
+"""Gosselin–Angeles relations of the Gough–Stewart platform (Gosselin & Angeles 1990, eqs. 71–87).
 
 Section VII of Gosselin & Angeles: six legs of lengths cᵢ (the inputs) join
 base points bᵢ = R_B (cos θᵢ, sin θᵢ, 0) (eqs. 71–72) to platform points
@@ -60,7 +60,7 @@ from ._rotations import orientation_from_vectors, rotated, row_times_left_jacobi
 
 __all__ = ["GoughStewartGeometry", "gough_stewart_geometry", "eq75_relation", "eq81_relation"]
 
-REFERENCE = "Gosselin & Angeles (000_cb500b1ffad40f57.txt) Section VII, eqs. 71-87"
+REFERENCE = "Gosselin & Angeles (1990) Section VII, eqs. 71-87"
 
 #: largest relative residual of the platform points against eqs. 73-74 turned by Q
 _LAYOUT_TOLERANCE = 1e-9
@@ -214,7 +214,7 @@ def eq75_relation(mechanism):
 
     References
     ----------
-    ``000_cb500b1ffad40f57.txt`` Section VII, eqs. 71–78.
+    Gosselin & Angeles 1990 Section VII, eqs. 71–78.
     """
     geometry = gough_stewart_geometry(mechanism)
     return _eq75_relation(_design_key(geometry)), _coordinates_function(mechanism, geometry)
@@ -241,7 +241,7 @@ def eq81_relation(mechanism):
 
     References
     ----------
-    ``000_cb500b1ffad40f57.txt`` Section VII, eqs. 79–83.
+    Gosselin & Angeles 1990 Section VII, eqs. 79–83.
     """
     geometry = gough_stewart_geometry(mechanism)
     return _eq81_relation(_design_key(geometry)), _coordinates_function(mechanism, geometry)

@@ -1,4 +1,4 @@
-"""Gosselin–Angeles relation of the planar 3-RRR manipulator, ``000_cb500b1ffad40f57.txt`` eqs. 42–65.
+"""Gosselin–Angeles relation of the planar 3-RRR manipulator, Gosselin & Angeles 1990 eqs. 42–65.
 
 Section V of Gosselin & Angeles: three legs with equal proximal links l₁ and
 distal links l₂ (eq. 42), fixed motors at (x_oi, y_oi) driving θ = (θ₁, θ₂, θ₃),
@@ -55,7 +55,7 @@ from ._rotations import planar_angle
 __all__ = ["Planar3RRRGeometry", "planar_3rrr_geometry", "planar_3rrr_coordinates", "planar_3rrr_matrices",
            "planar_3rrr_relation"]
 
-REFERENCE = "Gosselin & Angeles (000_cb500b1ffad40f57.txt) Section V, eqs. 42-65"
+REFERENCE = "Gosselin & Angeles (1990) Section V, eqs. 42-65"
 
 #: φᵢ − φ of eqs. 50-52
 VERTEX_OFFSETS = (math.pi / 6, 5 * math.pi / 6, -math.pi / 2)

@@ -1,4 +1,4 @@
-"""Gosselin–Angeles relations of the slider-crank (RRRP), ``000_cb500b1ffad40f57.txt`` eqs. 6–17.
+"""Gosselin–Angeles relations of the slider-crank (RRRP), Gosselin & Angeles 1990 eqs. 6–17.
 
 Section III of Gosselin & Angeles: a crank of length R turns about a pivot on
 the line of the slide, a coupler of length l joins it to the slider; the input
@@ -56,7 +56,7 @@ __all__ = [
     "eq9_relation", "eq12_relation", "eq12_matrices", "squared_relation", "squared_equation",
 ]
 
-REFERENCE = "Gosselin & Angeles (000_cb500b1ffad40f57.txt) Section III, eqs. 6-17"
+REFERENCE = "Gosselin & Angeles (1990) Section III, eqs. 6-17"
 
 #: largest distance of the crank pivot from the slide's line, relative to R + l (eqs. 6-7 assume 0)
 _OFFSET_TOLERANCE = 1e-9

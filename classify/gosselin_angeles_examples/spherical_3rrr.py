@@ -1,4 +1,4 @@
-"""Gosselin–Angeles relations of the spherical 3-RRR wrist (``000_cb500b1ffad40f57.txt``, eqs. 66–70).
+"""Gosselin–Angeles relations of the spherical 3-RRR wrist (Gosselin & Angeles 1990, eqs. 66–70).
 
 Section VI of Gosselin & Angeles: three legs, each a motor (fixed axis uᵢ),
 an intermediate revolute pair (axis wᵢ) and a revolute pair on the gripper
@@ -67,7 +67,7 @@ _SYMMETRY_TOLERANCE = 1e-9
 #: decimals of the design values (uᵢ, α₁, α₂): the wrists of one design share one relation
 _KEY_DIGITS = 12
 
-REFERENCE = "Gosselin & Angeles (000_cb500b1ffad40f57.txt) Section VI, eqs. 66-70"
+REFERENCE = "Gosselin & Angeles (1990) Section VI, eqs. 66-70"
 
 
 @dataclass(frozen=True, eq=False)
@@ -272,7 +272,7 @@ def spherical_3rrr_relation(mechanism):
 
     References
     ----------
-    ``000_cb500b1ffad40f57.txt`` Section VI, eqs. 66–70; the constraint
+    Gosselin & Angeles 1990 Section VI, eqs. 66–70; the constraint
     ∠(wᵢ, vᵢ) = α₂ is the definition of the distal links of Fig. 9.
     """
     geometry = spherical_3rrr_geometry(mechanism)
@@ -299,7 +299,7 @@ def eq68_relation(mechanism):
 
     References
     ----------
-    ``000_cb500b1ffad40f57.txt`` Section VI, eqs. 67–69.
+    Gosselin & Angeles 1990 Section VI, eqs. 67–69.
     """
     geometry = spherical_3rrr_geometry(mechanism)
     return _velocity_relation(_design_key(geometry)), _coordinates_function(mechanism, geometry)

@@ -1,4 +1,4 @@
-"""Gosselin–Angeles relation of Watt's six-bar linkage, ``000_cb500b1ffad40f57.txt`` eqs. 18–41.
+"""Gosselin–Angeles relation of Watt's six-bar linkage, Gosselin & Angeles 1990 eqs. 18–41.
 
 Section IV of Gosselin & Angeles: the input is the crank angle θ, the output
 the angle φ of the output link l₃; the ternary rocker (an equilateral triangle
@@ -60,7 +60,7 @@ from ._rotations import planar_angle
 __all__ = ["WattGeometry", "watt_geometry", "watt_coordinates", "watt_rocker_angle", "watt_factors",
            "watt_relation"]
 
-REFERENCE = "Gosselin & Angeles (000_cb500b1ffad40f57.txt) Section IV, eqs. 18-41 (eq. 33: sqrt(3)/2 for sqrt(2)/2)"
+REFERENCE = "Gosselin & Angeles (1990) Section IV, eqs. 18-41 (eq. 33: sqrt(3)/2 for sqrt(2)/2)"
 
 SQRT3 = math.sqrt(3.0)
 #: ground pivots of G–A eqs. 22-24 (joint 1, joint 4) and joint 7 in the same frame

@@ -1,4 +1,4 @@
-"""The catalogue: every mechanism of the papers in ``seeds/``, as joint graphs.
+"""The catalogue: every mechanism of the papers (docs/references.rst), as joint graphs.
 
 Each family module defines builders (keyword-only parameters with the
 paper's defaults, returning the mechanism assembled at the requested

@@ -1,6 +1,6 @@
 """The Eclipse (SNU mechanism): Park & Kim Figs. 9, 10, 11c.
 
-Park & Kim (``001_f823d888d0445bda.txt``, Case 2 and Case 3): "the Eclipse,
+Park & Kim (1999, Case 2 and Case 3): "the Eclipse,
 a 6 d.o.f. parallel manipulator designed for 5-face machining; each serial
 substructure is an RPS chain, which are all mounted on a circular track and
 are able to move independently"; the columns of the static Jacobian J_f are
@@ -185,7 +185,7 @@ def eclipse(*, track_radius=1.0, link_length=1.2, platform_radius=0.3, x=0.05, y
 
 ENTRIES = (
     Entry("eclipse", eclipse,
-          "Park & Kim (001_f823d888d0445bda.txt) Case 2 (Figs. 9, 10) and Case 3 (Fig. 11c)",
+          "Park & Kim (1999) Case 2 (Figs. 9, 10) and Case 3 (Fig. 11c)",
           {
               # platform horizontal, its circumcircle through the track axis, ball 1 opposite the axis
               "fig10_actuator": {"x": 0.0, "y": 0.3, "z": 0.0, "roll": 0.0, "pitch": 0.0, "yaw": 0.0},

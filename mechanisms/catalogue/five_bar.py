@@ -2,10 +2,10 @@
 
 Fixed revolutes A at the origin and B = (L0, 0); proximal links AC (L1) and
 BD (L3), distal links CP (L2) and DP (L4) meeting at the revolute centre P,
-the end-effector point (``004_d2fb1156d56a7b81.txt`` Fig. 1, eqs. 1-3). The
+the end-effector point (Chablat, Wenger & Angeles 1998 Fig. 1, eqs. 1-3). The
 actuated angles θ1 (of C − A) and θ2 (of D − B) and the coupler angles θ3 (of
 P − C) and θ4 (of P − D) are measured from the direction of AB. The design of
-Park & Kim (``001_f823d888d0445bda.txt`` eq. 8, Figs. 1, 6, 13) is the
+Park & Kim (1999 eq. 8, Figs. 1, 6, 13) is the
 symmetric L0 = 2, L1 = L2 = 1 (Fig. 13: a non-symmetric design).
 
 The singular configurations of 004: the direct-kinematics matrix A (eq. 3b) is
@@ -231,8 +231,8 @@ def five_bar(*, base=6.0, proximal=8.0, distal=5.0, proximal_right=0.0, distal_r
 
     References
     ----------
-    Chablat, Wenger, Angeles, ``004_d2fb1156d56a7b81.txt``, Fig. 1, eqs. (1)-(13);
-    Park & Kim, ``001_f823d888d0445bda.txt``, eq. (8), Figs. 1, 6, 13.
+    Chablat, Wenger, Angeles, 1998, Fig. 1, eqs. (1)-(13);
+    Park & Kim, 1999, eq. (8), Figs. 1, 6, 13.
     """
     names = [name.strip() for name in actuated.split(",") if name.strip()]
     unknown = sorted(set(names) - {name for name, _ in _LOOP})
@@ -290,8 +290,8 @@ _WORKING_MODES = {f"fig2_working_mode_{mode.replace('+', 'p').replace('-', 'm')}
 
 ENTRIES = (
     Entry("five-bar", five_bar,
-          "Chablat, Wenger & Angeles (004_d2fb1156d56a7b81.txt) Fig. 1, eqs. (1)-(13), Figs. 2, 5; "
-          "Park & Kim (001_f823d888d0445bda.txt) eq. (8), Figs. 1, 6, 13",
+          "Chablat, Wenger & Angeles (1998) Fig. 1, eqs. (1)-(13), Figs. 2, 5; "
+          "Park & Kim (1999) eq. (8), Figs. 1, 6, 13",
           {
               # Park & Kim Fig. 1: all five joints collinear (C-space singularities).
               "fig1a_collinear": {**_PARK_KIM, "theta1": 0.0, "theta2": 0.0},

@@ -1,6 +1,6 @@
 """The line-plane 5-SPU: Borràs, Thomas & Torras, Section II and Section V.
 
-Five legs from a planar base to a linear platform (``003_19c505c29420fba8.txt``
+Five legs from a planar base to a linear platform (Borràs, Thomas & Torras 2011
 Figs. 1, 2): leg i has a spherical joint at the base attachment
 aᵢ = (xᵢ, yᵢ, 0) in the plane Π (z = 0), an actuated prismatic joint along
 the leg, and a universal joint at the platform attachment bᵢ = p + zᵢ i on the
@@ -89,7 +89,7 @@ def five_spu(*, x1=_X[0], y1=_Y[0], z1=_Z[0], x2=_X[1], y2=_Y[1], z2=_Z[1], x3=_
 
     References
     ----------
-    ``003_19c505c29420fba8.txt`` Figs. 1, 2, Section II (attachments and
+    Borràs, Thomas & Torras 2011 Figs. 1, 2, Section II (attachments and
     pose), Section V eq. (26) (the quadratically solvable design).
     """
     if spin not in ("free", "locked"):
@@ -159,7 +159,7 @@ def cofactors(x, y, z):
 
     References
     ----------
-    ``003_19c505c29420fba8.txt`` eqs. (12), (13), (27).
+    Borràs, Thomas & Torras 2011 eqs. (12), (13), (27).
     """
     rows = np.array([[zi, xi, yi, xi * zi, yi * zi, 1.0] for xi, yi, zi in zip(x, y, z)])
     if rows.shape != (5, 6):
@@ -190,7 +190,7 @@ def singularity_polynomial(*, x1=_X[0], y1=_Y[0], z1=_Z[0], x2=_X[1], y2=_Y[1], 
 
     References
     ----------
-    ``003_19c505c29420fba8.txt`` eqs. (12), (13), (17); (2) is lost in the
+    Borràs, Thomas & Torras 2011 eqs. (12), (13), (17); (2) is lost in the
     text, (17) is its vector form.
     """
     unknown = set(options) - {"spin", "end_effector"}
@@ -216,7 +216,7 @@ def _on_second_factor(u, v, w, p_z, delta=_DELTA):
 
 ENTRIES = (
     Entry("5-spu", five_spu,
-          "Borràs, Thomas & Torras (003_19c505c29420fba8.txt) Figs. 1, 2, Section II, eqs. (17), (26), "
+          "Borràs, Thomas & Torras (2011) Figs. 1, 2, Section II, eqs. (17), (26), "
           "(33)-(35)",
           {
               "regular": {},

@@ -7,7 +7,7 @@ grouped by pairs at the angles θᵢ (eq. 72) and ηᵢ (eq. 74) built from φ_B
 φ_P. The platform pose is its centre x and orientation Q; the velocity
 relation is A ẏ + B ċ = 0 with rows aᵢ = [wᵢᵀ, ((Q p′ᵢ) × wᵢ)ᵀ] (eq. 82),
 wᵢ = Pᵢ − Bᵢ (eq. 80) and B = diag(cᵢ) (eq. 83)
-(``000_cb500b1ffad40f57.txt`` Section VII).
+(Gosselin & Angeles 1990 Section VII).
 """
 
 from __future__ import annotations
@@ -95,7 +95,7 @@ def gough_stewart(*, base_radius=1.0, platform_radius=0.5, base_angle=math.pi / 
 
     References
     ----------
-    ``000_cb500b1ffad40f57.txt`` Section VII, Figs. 10-12, eqs. (71)-(87).
+    Gosselin & Angeles 1990 Section VII, Figs. 10-12, eqs. (71)-(87).
     """
     for name, value in (("base_radius", base_radius), ("platform_radius", platform_radius)):
         if not value > 0:
@@ -131,7 +131,7 @@ def _collapsed_leg_pose(rotation=(-0.3, 0.2, 0.4)):
 
 ENTRIES = (
     Entry("gough-stewart", gough_stewart,
-          "Gosselin & Angeles (000_cb500b1ffad40f57.txt) Section VII, Figs. 10-12, eqs. (71)-(87); "
+          "Gosselin & Angeles (1990) Section VII, Figs. 10-12, eqs. (71)-(87); "
           "Fichter (their ref. [28]) for the ±90° rotation",
           {
               # leg 1 of zero length, cᵢ = 0: B = diag(cᵢ) singular (eq. 84)

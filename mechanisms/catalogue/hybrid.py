@@ -1,7 +1,7 @@
 """The three-dof hybrid manipulator: Chablat, Wenger & Angeles Fig. 6, eqs. (14)-(30).
 
 The symmetric five-bar of Fig. 1 (``five_bar.py``) turned about the line AB of
-its fixed revolutes by a third actuated revolute (``004_d2fb1156d56a7b81.txt``
+its fixed revolutes by a third actuated revolute (Chablat, Wenger & Angeles 1998
 Sec. 4). AB is the Y axis: A at the origin, B = (0, L0, 0). In 004's notation
 for this manipulator θ1 is the angle of the base revolute about Y, θ2 and θ3
 the actuated angles of the five-bar at A and B, θ4 and θ5 the angles of the
@@ -104,7 +104,7 @@ def hybrid(*, base=6.0, proximal=8.0, distal=5.0, theta1=0.4, theta2=1.8, theta3
 
     References
     ----------
-    Chablat, Wenger, Angeles, ``004_d2fb1156d56a7b81.txt``, Fig. 6, eqs. (14)-(30).
+    Chablat, Wenger, Angeles, 1998, Fig. 6, eqs. (14)-(30).
     """
     points, normal = hybrid_points(base=base, proximal=proximal, distal=distal, theta1=theta1, theta2=theta2,
                                    theta3=theta3, assembly=assembly, theta4=theta4)
@@ -130,7 +130,7 @@ def _distal_aligned(theta2, side=1):
 
 ENTRIES = (
     Entry("hybrid", hybrid,
-          "Chablat, Wenger & Angeles (004_d2fb1156d56a7b81.txt) Fig. 6, eqs. (14)-(30)",
+          "Chablat, Wenger & Angeles (1998) Fig. 6, eqs. (14)-(30)",
           {
               "regular": {},
               # eq. 30, d1 = 0: P on the Y axis (the base revolute's axis), beyond A.

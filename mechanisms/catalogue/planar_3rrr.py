@@ -1,4 +1,4 @@
-"""Planar 3-RRR parallel manipulator: Gosselin & Angeles (``000_cb500b1ffad40f57.txt``) Fig. 7, eqs. (42)-(65).
+"""Planar 3-RRR parallel manipulator: Gosselin & Angeles (1990) Fig. 7, eqs. (42)-(65).
 
 Three legs M_i D_i A_i: a motor at M_i drives the proximal link l₁ (angle θ_i),
 the distal link l₂ joins the elbow to vertex A_i of the gripper, an
@@ -307,7 +307,7 @@ _CENTROID = {"x": 0.5, "y": math.sqrt(3.0) / 6}
 
 ENTRIES = (
     Entry("planar-3rrr", planar_3rrr,
-          "Gosselin & Angeles (000_cb500b1ffad40f57.txt) Fig. 7, eqs. (42)-(65)",
+          "Gosselin & Angeles (1990) Fig. 7, eqs. (42)-(65)",
           {
               # Kind I, eq. (58): leg 1 stretched / folded (sin ψ₁ = 0).
               "eq58_leg_stretched": leg_aligned_pose(**DEFAULT_DESIGN, phi=0.2, heading=math.radians(40)),

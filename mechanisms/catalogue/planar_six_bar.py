@@ -1,6 +1,6 @@
 """The planar six-bar (6R loop) with equal links: Park & Kim Fig. 12a/b.
 
-Park & Kim (``001_f823d888d0445bda.txt``, Case 3 and Fig. 12): "a planar
+Park & Kim (1999, Case 3 and Fig. 12): "a planar
 six-bar linkage with equal link lengths ... we ignore orientation and consider
 only the Cartesian position of the end-effector frame. In this configuration
 the end-effector frame is unable to translate along the link to which it is
@@ -110,7 +110,7 @@ def planar_six_bar(*, length=1.0, theta1=1.3, theta2=0.6, theta3=-2.0, branch=1,
 
 ENTRIES = (
     Entry("planar-six-bar", planar_six_bar,
-          "Park & Kim (001_f823d888d0445bda.txt) Case 3, Fig. 12a/b",
+          "Park & Kim (1999) Case 3, Fig. 12a/b",
           {
               "fig12a_end_effector": {"theta1": math.pi / 2, "theta2": 0.0, "theta3": -2 * math.pi / 3},
               "fig12b_relocated": {"theta1": math.pi / 2, "theta2": 0.0, "theta3": -2 * math.pi / 3,

@@ -1,7 +1,7 @@
 """The slider-crank (RRRP): Park & Kim Fig. 3; Gosselin & Angeles eqs. (6)-(17).
 
 Crank of length R about the origin, coupler of length l, slider on the x axis
-(``001_f823d888d0445bda.txt`` Fig. 3, ``000_cb500b1ffad40f57.txt`` Fig. 2).
+(Park & Kim 1999 Fig. 3, Gosselin & Angeles 1990 Fig. 2).
 """
 
 from __future__ import annotations
@@ -66,7 +66,7 @@ def slider_crank(*, crank=2.0, coupler=1.0, theta=0.3, branch=1, actuated="crank
 
 ENTRIES = (
     Entry("slider-crank", slider_crank,
-          "Park & Kim (001_f823d888d0445bda.txt) Fig. 3; Gosselin & Angeles (000_cb500b1ffad40f57.txt) "
+          "Park & Kim (1999) Fig. 3; Gosselin & Angeles (1990) "
           "eqs. (6)-(17)",
           {
               "fig3a_self_intersection": {"crank": 1.0, "coupler": 1.0, "theta": math.pi / 2},

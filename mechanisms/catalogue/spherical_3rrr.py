@@ -5,7 +5,7 @@ and a gripper joint (axis vᵢ), every axis through the centre of the sphere;
 the proximal links span the arc α₁ = ∠(uᵢ, wᵢ) and the distal links the arc
 α₂ = ∠(wᵢ, vᵢ), the same for every leg (eq. 66). As the paper states for its
 symmetric layout, the motor axes lie in one plane, 120° apart, and so do the
-gripper axes (``000_cb500b1ffad40f57.txt`` Section VI). The velocity relation
+gripper axes (Gosselin & Angeles 1990 Section VI). The velocity relation
 is A ω + B θ̇ = 0 with A rows (wᵢ × vᵢ)ᵀ (eq. 68) and
 B = diag((wᵢ × uᵢ)·vᵢ) (eq. 69).
 """
@@ -147,7 +147,7 @@ def spherical_3rrr(*, alpha1=math.pi / 3, alpha2=math.pi / 4, rotation_x=0.3, ro
 
     References
     ----------
-    ``000_cb500b1ffad40f57.txt`` Section VI, Fig. 9, eqs. (66)-(70).
+    Gosselin & Angeles 1990 Section VI, Fig. 9, eqs. (66)-(70).
     """
     for name, value in (("alpha1", alpha1), ("alpha2", alpha2)):
         if not 0 < value < math.pi:
@@ -179,7 +179,7 @@ def _rotation_vector(precession, nutation, spin=0.0):
 
 ENTRIES = (
     Entry("spherical-3rrr", spherical_3rrr,
-          "Gosselin & Angeles (000_cb500b1ffad40f57.txt) Section VI, Fig. 9, eqs. (66)-(70)",
+          "Gosselin & Angeles (1990) Section VI, Fig. 9, eqs. (66)-(70)",
           {
               # leg 1 fully extended, ∠(u₁, v₁) = α₁ + α₂ (rotation about an axis ⟂ u₁): eq. (70)
               "eq70_leg1_extended": {"rotation_x": 0.0,

@@ -1,6 +1,6 @@
 """The spherical six-bar (6R loop) with three actuators: Park & Kim Figs. 7, 8a, 8b.
 
-Park & Kim (``001_f823d888d0445bda.txt``, Case 2, Figs. 7-8): "Figure 7
+Park & Kim (1999, Case 2, Figs. 7-8): "Figure 7
 indicates a nondegenerate actuator singularity for a spherical six-bar
 closed-loop linkage, in which the three actuated joints are indicated by
 arrows. The general condition for an actuator singularity in this case is
@@ -177,7 +177,7 @@ _FIG7 = {"theta1": _SYMMETRIC_ANGLES[0], "theta2": _SYMMETRIC_ANGLES[1], "theta3
 
 ENTRIES = (
     Entry("spherical-six-bar", spherical_six_bar,
-          "Park & Kim (001_f823d888d0445bda.txt) Case 2, Figs. 7, 8a, 8b",
+          "Park & Kim (1999) Case 2, Figs. 7, 8a, 8b",
           {
               "fig7_actuator": {**_FIG7, "actuated": "135"},
               "fig7_actuated_axes_coplanar": {**_FIG7, "actuated": "246"},

@@ -1,6 +1,6 @@
 """The planar 3-PRR parallel manipulator: Chablat, Caro, Wenger & Angeles, Fig. 1, eqs. (1)-(4).
 
-``002_eedcbdd77fe12f75.txt`` §2: three PRR legs; the prismatic joints (the
+Chablat, Caro, Wenger & Angeles 2002 §2: three PRR legs; the prismatic joints (the
 actuators, displacements ρᵢ) slide along the sides of the base triangle
 A₁A₂A₃ (equilateral, centre O, circumradius R); a leg BᵢCᵢ of length l joins
 the slider Bᵢ to the platform pivot Cᵢ; the pivots form an equilateral
@@ -133,7 +133,7 @@ def three_prr(*, platform_radius=100.0, base_radius=200.0, leg_length=200.0,
 
     References
     ----------
-    ``002_eedcbdd77fe12f75.txt`` §2 (Fig. 1, eqs. 1-4), §3.4 (Fig. 4a), §3.5 (Fig. 5).
+    Chablat, Caro, Wenger & Angeles 2002 §2 (Fig. 1, eqs. 1-4), §3.4 (Fig. 4a), §3.5 (Fig. 5).
     """
     _check_design(platform_radius, base_radius, leg_length)
     if working_mode not in WORKING_MODES:
@@ -190,7 +190,7 @@ def three_prr_at_inputs(*, platform_radius=100.0, base_radius=200.0, leg_length=
 
     References
     ----------
-    ``002_eedcbdd77fe12f75.txt`` §2, §2.2 (direct kinematics, matrix A).
+    Chablat, Caro, Wenger & Angeles 2002 §2, §2.2 (direct kinematics, matrix A).
     """
     _check_design(platform_radius, base_radius, leg_length)
     sliders = base_vertices(base_radius) + np.array([rho1, rho2, rho3])[:, None] * rail_directions()
@@ -212,7 +212,7 @@ _PARALLEL_DIRECTION = math.radians(10.0)                            # δ of the 
 
 ENTRIES = (
     Entry("3-prr", three_prr,
-          "Chablat, Caro, Wenger & Angeles (002_eedcbdd77fe12f75.txt) Fig. 1, eqs. (3)-(4), "
+          "Chablat, Caro, Wenger & Angeles (2002) Fig. 1, eqs. (3)-(4), "
           "§2.2-2.3 (Figs. 2-3), §3.4 (Fig. 4a), §3.5 (Fig. 5)",
           {
               # Fig. 4a: isotropic, γ = π/2, AᵢBᵢ collinear with BᵢCᵢ (the defaults)
@@ -228,6 +228,6 @@ ENTRIES = (
               "fig3_serial_leg1": {"y": 200.0},
           }),
     Entry("3-prr-inputs", three_prr_at_inputs,
-          "Chablat, Caro, Wenger & Angeles (002_eedcbdd77fe12f75.txt) Fig. 1, eqs. (3)-(4)",
+          "Chablat, Caro, Wenger & Angeles (2002) Fig. 1, eqs. (3)-(4)",
           {"fig4a_isotropic": {}}),
 )

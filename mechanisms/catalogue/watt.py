@@ -1,4 +1,4 @@
-"""Watt's six-bar linkage: Gosselin & Angeles (``000_cb500b1ffad40f57.txt``) Fig. 5, eqs. (18)-(41).
+"""Watt's six-bar linkage: Gosselin & Angeles (1990) Fig. 5, eqs. (18)-(41).
 
 Two four-bar loops share a ternary rocker. The ground is the equilateral
 triangle of side 1 with the crank pivot (joint 1) at the origin, the rocker
@@ -302,7 +302,7 @@ def _aligned(condition, side):
 
 ENTRIES = (
     Entry("watt-six-bar", watt_six_bar,
-          "Gosselin & Angeles (000_cb500b1ffad40f57.txt) Fig. 5, eqs. (18)-(41)",
+          "Gosselin & Angeles (1990) Fig. 5, eqs. (18)-(41)",
           {
               # Kind I, eq. (37): B = N1 N2 = 0 (the folded alignments: the default design cannot
               # stretch them).

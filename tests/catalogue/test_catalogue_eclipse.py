@@ -1,4 +1,4 @@
-"""The Eclipse: Park & Kim (001_f823d888d0445bda.txt) Case 2 (Figs. 9, 10) and Case 3 (Fig. 11c)."""
+"""The Eclipse: Park & Kim (1999) Case 2 (Figs. 9, 10) and Case 3 (Fig. 11c)."""
 
 import numpy as np
 import pytest

@@ -1,5 +1,5 @@
-"""Five-bar: Chablat, Wenger & Angeles (004_d2fb1156d56a7b81.txt) Fig. 1, eqs. (1)-(13), Fig. 2;
-Park & Kim (001_f823d888d0445bda.txt) eq. (8), Figs. 1, 6, 13.
+"""Five-bar: Chablat, Wenger & Angeles (1998) Fig. 1, eqs. (1)-(13), Fig. 2;
+Park & Kim (1999) eq. (8), Figs. 1, 6, 13.
 
 The 004 conditions are evaluated from the joint centres of the built mechanism, independently of
 the classifier: A (eq. 3b) is singular iff θ3 − θ4 = kπ, B (eq. 3c) iff θ3 − θ1 = kπ or

@@ -1,4 +1,4 @@
-"""Line-plane 5-SPU: Borràs, Thomas & Torras (003_19c505c29420fba8.txt), Sections II, III-C, V.
+"""Line-plane 5-SPU: Borràs, Thomas & Torras (2011), Sections II, III-C, V.
 
 Parallel singularities (Gosselin–Angeles type II) are Park–Kim actuator singularities. The
 paper's singular set is the zero set of (17) for any design, and of the two pose factors of (33),

@@ -1,4 +1,4 @@
-"""Gough–Stewart platform (6-UPS): Gosselin & Angeles (000_cb500b1ffad40f57.txt) Section VII,
+"""Gough–Stewart platform (6-UPS): Gosselin & Angeles (1990) Section VII,
 Figs. 10-12, eqs. (71)-(87).
 
 The paper's A (eqs. 80-82, rows aᵢ = [wᵢᵀ, ((Q p′ᵢ) × wᵢ)ᵀ]) and B = diag(cᵢ) (eq. 83) are

@@ -1,4 +1,4 @@
-"""Three-dof hybrid manipulator: Chablat, Wenger & Angeles (004_d2fb1156d56a7b81.txt) Fig. 6,
+"""Three-dof hybrid manipulator: Chablat, Wenger & Angeles (1998) Fig. 6,
 eqs. (14)-(30).
 
 The 004 conditions are evaluated from the joint centres of the built mechanism, independently of

@@ -1,4 +1,4 @@
-"""Planar 3-RRR: Gosselin & Angeles (000_cb500b1ffad40f57.txt) Fig. 7, eqs. (42)-(65).
+"""Planar 3-RRR: Gosselin & Angeles (1990) Fig. 7, eqs. (42)-(65).
 
 Each singular configuration the paper states is checked against the paper's Jacobians A and
 B (eqs. 44-48, rebuilt here from the joint positions, up to the positive row factors of

@@ -1,4 +1,4 @@
-"""Planar six-bar with equal links: Park & Kim (001_f823d888d0445bda.txt) Case 3, Fig. 12a/b."""
+"""Planar six-bar with equal links: Park & Kim (1999) Case 3, Fig. 12a/b."""
 
 import numpy as np
 import pytest

@@ -1,5 +1,5 @@
-"""Slider-crank: Park & Kim (001_f823d888d0445bda.txt) Fig. 3 a-d; Gosselin & Angeles
-(000_cb500b1ffad40f57.txt) eqs. (6)-(17)."""
+"""Slider-crank: Park & Kim (1999) Fig. 3 a-d; Gosselin & Angeles
+(1990) eqs. (6)-(17)."""
 
 import numpy as np
 import pytest

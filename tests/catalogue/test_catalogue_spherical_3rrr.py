@@ -1,4 +1,4 @@
-"""Spherical 3-RRR parallel wrist: Gosselin & Angeles (000_cb500b1ffad40f57.txt) Section VI,
+"""Spherical 3-RRR parallel wrist: Gosselin & Angeles (1990) Section VI,
 Fig. 9, eqs. (66)-(70).
 
 The paper's A (eq. 68) and B (eq. 69) are computed here from the axes of the built mechanism,

@@ -1,4 +1,4 @@
-"""Spherical six-bar with three actuators: Park & Kim (001_f823d888d0445bda.txt) Case 2, Figs. 7, 8a, 8b."""
+"""Spherical six-bar with three actuators: Park & Kim (1999) Case 2, Figs. 7, 8a, 8b."""
 
 import itertools
 import math

@@ -1,8 +1,8 @@
-"""3-PRR: Chablat, Caro, Wenger & Angeles (002_eedcbdd77fe12f75.txt) Fig. 1, eqs. (3)-(4), §2.2-3.5.
+"""3-PRR: Chablat, Caro, Wenger & Angeles (2002) Fig. 1, eqs. (3)-(4), §2.2-3.5.
 
 Design of Figs. 6-8: r = 100, R = 200, l = 200 (mm). The paper's matrices A (eq. 4a) and B (eq. 4b)
 are evaluated here from the assembled geometry (the points Bᵢ, Cᵢ, P and the rail directions αᵢ),
-independently of the classifier; det A = 0 ↔ actuator, det B = 0 ↔ end_effector (DESIGN.md).
+independently of the classifier; det A = 0 ↔ actuator, det B = 0 ↔ end_effector (docs/design.rst).
 """
 
 import math
@@ -247,7 +247,7 @@ def test_legs_through_the_centre_and_square_to_the_rails_is_a_cspace_singularity
     Bᵢ at its rail's midpoint and every leg through P (det A = 0) and square to its rail (det B = 0).
     Then each leg's twists span only 2 dimensions and the three spans share the rotation about P, so
     the loop closure loses rank (6 -> 5, computed by hand): a C-space singularity, the Park-Kim side
-    of G-A type III (DESIGN.md), where the eight working modes meet (tangent cone spanning 4 > 3)."""
+    of G-A type III (docs/design.rst), where the eight working modes meet (tangent cone spanning 4 > 3)."""
     mechanism = three_prr(phi=ISOTROPIC_PHI + math.pi)
     a_bar, b_matrix = paper_matrices(mechanism)
     assert relative_smallest_singular_value(a_bar) < 1e-12

@@ -1,4 +1,4 @@
-"""Watt six-bar: Gosselin & Angeles (000_cb500b1ffad40f57.txt) Fig. 5, eqs. (18)-(41).
+"""Watt six-bar: Gosselin & Angeles (1990) Fig. 5, eqs. (18)-(41).
 
 Each singular configuration the paper states is checked twice: against the paper's own
 closed-form factors N₁, N₂, D₁, D₂ (eqs. 33-36, evaluated independently of the classifier) and

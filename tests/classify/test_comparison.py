@@ -1,5 +1,5 @@
 """The comparison of Park–Kim and Gosselin–Angeles: the correspondence I ↔ end-effector,
-II ↔ actuator, III ↔ both or C-space (DESIGN.md, "Gosselin–Angeles"), and every entry of the closed
+II ↔ actuator, III ↔ both or C-space (docs/design.rst, "Gosselin–Angeles"), and every entry of the closed
 list of reasons for a disagreement, each exercised on a concrete mechanism."""
 
 import numpy as np

@@ -1,4 +1,4 @@
-"""Planar five-bar: Park & Kim (001_f823d888d0445bda.txt) eq. (8), Figs. 1, 6a, 6b, 13.
+"""Planar five-bar: Park & Kim (1999) eq. (8), Figs. 1, 6a, 6b, 13.
 
 Design of Figs. 1 and 6: base 2, proximal and distal links 1, J1 and J5 actuated, end-effector
 at the middle joint J3."""

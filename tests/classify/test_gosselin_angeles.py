@@ -1,4 +1,4 @@
-"""The Gosselin–Angeles matrices (``000_cb500b1ffad40f57.txt``, eqs. 1–5): relations from SymPy and
+"""The Gosselin–Angeles matrices (1990, eqs. 1–5): relations from SymPy and
 callables, Taylor tests of their derivatives, the normalised rank decisions, and the derived
 matrices (the annihilator of {(Dπ T u, J u)}) with their independence of the description."""
 

@@ -1,4 +1,4 @@
-"""The planar examples of Gosselin & Angeles (000_cb500b1ffad40f57.txt) with the paper's own relations:
+"""The planar examples of Gosselin & Angeles (1990) with the paper's own relations:
 the slider-crank (Section III, eqs. 6-17), Watt's linkage (Section IV, eqs. 18-41) and the planar 3-RRR
 (Section V, eqs. 42-65), from :mod:`classify.gosselin_angeles_examples`.
 

@@ -1,4 +1,4 @@
-"""Gosselin–Angeles's spatial examples (``000_cb500b1ffad40f57.txt``): the spherical 3-RRR wrist
+"""Gosselin–Angeles's spatial examples (1990): the spherical 3-RRR wrist
 (Section VI, eqs. 66–70) and the Gough–Stewart platform (Section VII, eqs. 71–87), as SymPy
 relations F(θ, x) = 0 in the variables of the catalogue mechanisms.
 

@@ -1,5 +1,5 @@
 """Invariance of the classification and of the manipulability proper values under changes of
-description (DESIGN.md, "Metrics"): joint zeros (another home), axis signs, base frame, tangent
+description (docs/design.rst, "Metrics"): joint zeros (another home), axis signs, base frame, tangent
 basis; the SE(3) length scale changes the values only. Property tests with a seeded rng."""
 
 import numpy as np

@@ -1,5 +1,5 @@
 """Overconstrained loops: a Bennett linkage (spatial 4R) has rank DΦ = 3 < 6 rows on M, dof 1,
-and that is not a C-space singularity (DESIGN.md, "Dimension")."""
+and that is not a C-space singularity (docs/design.rst, "Dimension")."""
 
 import numpy as np
 import pytest

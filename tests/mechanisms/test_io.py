@@ -1,4 +1,4 @@
-"""Tests of mechanisms.io: the mechanism file format (DESIGN.md, "Mechanism file")."""
+"""Tests of mechanisms.io: the mechanism file format (docs/design.rst, "Mechanism file")."""
 
 import json
 import re
@@ -312,7 +312,7 @@ def test_design_example_parses_once_its_end_effector_is_on_one_of_its_links():
 
 
 def test_design_example_verbatim_names_its_unknown_end_effector_link():
-    # The example in DESIGN.md puts the end-effector on "distal1", which none
+    # The example in docs/design.rst puts the end-effector on "distal1", which none
     # of its two joints joins; the loader says so instead of guessing.
     with pytest.raises(MechanismError, match="end_effector: field 'link': unknown link 'distal1'"):
         loads(DESIGN_EXAMPLE)

@@ -1,0 +1,66 @@
+"""The ``closedchain`` command: one module per subcommand.
+
+* ``closedchain classify FILE|NAME`` (:mod:`classify.cli.classify_command`)
+  classifies ``home ⊕ at`` of a mechanism file or of a catalogue entry
+  (docs/design.rst, "CLI");
+* ``closedchain report [PATH|NAME ...]`` (:mod:`classify.cli.report_command`)
+  classifies the catalogue, or every mechanism file under the paths, at each
+  named configuration, and prints a table;
+* ``closedchain compare FILE|NAME`` (:mod:`classify.cli.compare_command`)
+  puts Park–Kim and Gosselin–Angeles side by side;
+* ``closedchain catalog [NAME]`` (:mod:`classify.cli.catalog_command`) lists the
+  catalogue, describes an entry or writes it as a mechanism file.
+
+Exit status: 0 done (singular or not), 2 bad input (one line on stderr), 1 an
+internal error.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+import traceback
+
+from mechanisms import ConfigurationError, MechanismError
+
+from . import catalog_command, classify_command, compare_command, report_command
+from ._common import InputError, Parser
+from .report_command import report_table
+
+__all__ = ["main", "report_table", "InputError"]
+
+#: subcommand name → its module (each has ``add_parser(commands)`` and ``run(arguments, out)``)
+COMMANDS = {
+    "classify": classify_command,
+    "report": report_command,
+    "compare": compare_command,
+    "catalog": catalog_command,
+}
+
+
+def parser():
+    """The argument parser of the whole command."""
+    result = Parser(prog="closedchain", description="Singularity analysis of closed kinematic chains.")
+    commands = result.add_subparsers(dest="command", required=True, parser_class=Parser)
+    for module in COMMANDS.values():
+        module.add_parser(commands)
+    return result
+
+
+def main(argv=None, out=None):
+    """Entry point of the ``closedchain`` command; returns the exit status."""
+    out = sys.stdout if out is None else out
+    try:
+        arguments = parser().parse_args(argv)
+        COMMANDS[arguments.command].run(arguments, out)
+        return 0
+    except (InputError, MechanismError, ConfigurationError) as error:
+        message = " ".join(str(error).split())
+        print(f"closedchain: error: {message}", file=sys.stderr)
+        return 2
+    except Exception as error:  # noqa: BLE001 - the CLI must never show a traceback by default
+        if os.environ.get("CLOSEDCHAIN_DEBUG"):
+            traceback.print_exc()
+        message = " ".join(f"{type(error).__name__}: {error}".split())
+        print(f"closedchain: internal error: {message} (set CLOSEDCHAIN_DEBUG=1 for details)", file=sys.stderr)
+        return 1

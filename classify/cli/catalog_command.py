@@ -1,0 +1,73 @@
+"""``closedchain catalog [NAME] [--param K=V] [--configuration C] [--write FILE] [--format json|text]``: list
+the catalogue, describe an entry, or write it as a mechanism file."""
+
+from __future__ import annotations
+
+import json
+import sys
+
+from mechanisms import catalogue
+from mechanisms.io import save
+
+from ._common import InputError, entry_options, entry_values
+
+__all__ = ["add_parser", "run", "entry_description"]
+
+
+def add_parser(commands):
+    parser = commands.add_parser("catalog", help="list the catalogue, describe an entry or write it to a file")
+    parser.add_argument("name", nargs="?", default=None, help="catalogue name (default: list them all)")
+    entry_options(parser)
+    parser.add_argument("--write", default=None, metavar="FILE",
+                        help="write the entry as a mechanism file (.yaml, .yml or .json)")
+    parser.add_argument("--format", choices=("json", "text"), default="text")
+    return parser
+
+
+def entry_description(item, configuration_name, values):
+    """The description written into a mechanism file made from a catalogue entry."""
+    settings = ", ".join(f"{name}={value!r}" for name, value in values.items())
+    at = f" at {configuration_name}" if configuration_name else ""
+    return (f"closedchain catalogue entry {item.name}{at}: {item.summary} "
+            f"From {item.reference}. Parameters: {settings}.")
+
+
+def _entry_dict(item):
+    return {"name": item.name, "summary": item.summary, "reference": item.reference,
+            "parameters": item.parameters,
+            "configurations": {name: dict(presets) for name, presets in item.configurations.items()}}
+
+
+def run(arguments, out):
+    if arguments.name is None:
+        if arguments.write or arguments.param or arguments.configuration:
+            raise InputError("catalog: --write, --param and --configuration need a catalogue NAME")
+        items = catalogue.entries()
+        if arguments.format == "json":
+            out.write(json.dumps([_entry_dict(item) for item in items], indent=2, ensure_ascii=False) + "\n")
+            return
+        width = max(len(item.name) for item in items)
+        for item in items:
+            out.write(f"{item.name.ljust(width)}  {item.summary}\n")
+            out.write(f"{'':{width}}  {item.reference}\n")
+            if item.configurations:
+                out.write(f"{'':{width}}  configurations: {', '.join(item.configurations)}\n")
+        return
+    item = catalogue.entry(arguments.name)
+    values = entry_values(item, arguments)
+    mechanism = item.build(**values)
+    if arguments.write:
+        save(mechanism, arguments.write, description=entry_description(item, arguments.configuration, values))
+        print(f"{item.name} written to {arguments.write}", file=sys.stderr)
+        return
+    if arguments.format == "json":
+        out.write(json.dumps({**_entry_dict(item), "values": values}, indent=2, ensure_ascii=False) + "\n")
+        return
+    lines = [f"{item.name}: {item.summary}", f"from {item.reference}", "", "parameters (value, default):"]
+    lines += [f"  {name} = {value!r}  (default {item.parameters[name]!r})" for name, value in values.items()]
+    lines += ["", "configurations:"]
+    lines += [f"  {name}: " + ", ".join(f"{key}={value!r}" for key, value in presets.items())
+              for name, presets in item.configurations.items()] or ["  none"]
+    lines += ["", f"{mechanism.space} mechanism, {len(mechanism.joints)} joints, {mechanism.loop_count} loop(s), "
+              f"actuated: {', '.join(joint.name for joint in mechanism.joints if joint.actuated) or 'none'}"]
+    out.write("\n".join(lines) + "\n")

@@ -1,0 +1,129 @@
+"""``closedchain compare FILE|NAME [--at …] [--inputs J1,J5] [--outputs …] [--relation R] [--samples N]
+[--path N] [--format json|text]``: Park–Kim and Gosselin–Angeles side by side, with the reason for every
+difference."""
+
+from __future__ import annotations
+
+import json
+import sys
+from dataclasses import replace
+
+import numpy as np
+
+from mechanisms import actuate, configuration
+from mechanisms.joints import joint_coordinate_names
+
+from ..comparison import compare, sample_configurations
+from ..gosselin_angeles_examples import RELATIONS
+from ..model import joint_output_model, model_of
+from ..paths import path_configurations, singular_crossings
+from ._common import (
+    InputError, check_length_scale, common_options, displacements, entry_options, is_entry, joint_list, source,
+)
+
+__all__ = ["add_parser", "run"]
+
+
+def add_parser(commands):
+    parser = commands.add_parser("compare", help="Park–Kim and Gosselin–Angeles side by side, with the reason "
+                                                 "for every difference")
+    parser.add_argument("file", metavar="FILE|NAME", help="mechanism file (YAML or JSON) or catalogue name")
+    entry_options(parser)
+    parser.add_argument("--at", action="append", default=[], metavar="JSON",
+                        help="a configuration: joint displacements from home as JSON or @file.json (repeatable)")
+    parser.add_argument("--project", action="store_true",
+                        help="project configurations that do not close onto the C-space")
+    parser.add_argument("--inputs", default=None, metavar="J1,J2",
+                        help="the driven joints, comma-separated (default: the mechanism's actuated joints)")
+    parser.add_argument("--outputs", default=None, metavar="J3,J4",
+                        help="output joints, comma-separated: their coordinates are the outputs "
+                             "(default: the end-effector's coordinates)")
+    parser.add_argument("--relation", default=None, metavar="NAME",
+                        help="use the paper's F of a catalogue entry (e.g. eq9 for slider-crank) instead of the "
+                             "matrices derived from the mechanism")
+    parser.add_argument("--samples", type=int, default=8, metavar="N",
+                        help="also compare N configurations sampled over the assembly branches (default 8)")
+    parser.add_argument("--path", type=int, default=0, metavar="N",
+                        help="also compare up to N configurations each way along a curve of M through the home, "
+                             "and the actuator and end-effector singularities the curve crosses")
+    parser.add_argument("--path-step", type=float, default=0.05, metavar="H",
+                        help="distance between configurations along the path (joint-coordinate units, "
+                             "default 0.05)")
+    parser.add_argument("--format", choices=("json", "text"), default="text")
+    common_options(parser)
+    return parser
+
+
+def _paper_relation(arguments, mechanism, point):
+    """The (relation, coordinates) named by --relation for a catalogue entry."""
+    known = RELATIONS.get(arguments.file, {}) if is_entry(arguments.file) else {}
+    if arguments.relation not in known:
+        entries = "; ".join(f"{name}: {', '.join(relations)}" for name, relations in RELATIONS.items())
+        raise InputError(f"--relation: no relation {arguments.relation!r} for {arguments.file!r} "
+                         f"(the paper's relations are: {entries})")
+    try:
+        return known[arguments.relation](mechanism, point)
+    except ValueError as error:
+        raise InputError(f"--relation: {arguments.relation} does not apply here: {error}") from None
+
+
+def _path_rows(model, start, count, step):
+    """Labels and points along a path of M through `start`, with the singularities it crosses in place."""
+    path, steps = path_configurations(model, start, count, step=step)
+    crossings = {}
+    for index, point, kind in singular_crossings(model, path):
+        crossings.setdefault(index, []).append((point, kind))
+    labels, points = [], []
+    for index, (point, step) in enumerate(zip(path, steps)):
+        labels.append("home" if step == 0 else f"path{step:+d}")
+        points.append(point)
+        for crossing, kind in crossings.get(index, []):
+            labels.append(f"crossing ({kind.replace('_', '-')})")
+            points.append(crossing)
+    return labels, points
+
+
+def run(arguments, out):
+    check_length_scale(arguments.length_scale)
+    for option in ("samples", "path"):
+        if getattr(arguments, option) < 0:
+            raise InputError(f"--{option}: expected a count ≥ 0, got {getattr(arguments, option)}")
+    if not (np.isfinite(arguments.path_step) and arguments.path_step > 0):
+        raise InputError(f"--path-step: expected a positive number, got {arguments.path_step}")
+    mechanism, named = source(arguments)
+    if arguments.inputs is not None:
+        mechanism = actuate(mechanism, joint_list(arguments.inputs, "--inputs"), where="--inputs")
+    output_names = None
+    if arguments.outputs is not None:
+        outputs = joint_list(arguments.outputs, "--outputs")
+        model = joint_output_model(mechanism, outputs, where="--outputs")
+        output_names = tuple(name for joint in outputs for name in joint_coordinate_names(mechanism.joint(joint)))
+    elif mechanism.end_effector is None:
+        raise InputError(f"--outputs: {mechanism.name!r} has no end-effector; name the output joints")
+    else:
+        model = model_of(mechanism, arguments.length_scale)
+    if not len(model.actuators):
+        raise InputError(f"--inputs: {mechanism.name!r} has no actuated joint; name the input joints")
+    start = configuration(mechanism, named, where="--configuration").point
+    given = [configuration(mechanism, {**named, **displacements(text)}, project_onto=arguments.project,
+                           where="--at").point for text in arguments.at]
+    rng = np.random.default_rng(arguments.seed)
+    model = replace(model, starts=np.stack([start, *given]))
+    labels, points = ["home"], [start]
+    if arguments.path:
+        labels, points = _path_rows(model, start, arguments.path, arguments.path_step)
+    labels += [f"at{index}" for index in range(1, len(given) + 1)]
+    points += given
+    samples = sample_configurations(model, arguments.samples, rng)
+    labels += [f"sample{index}" for index in range(1, len(samples) + 1)]
+    points += list(samples)
+    relation = coordinates = None
+    if arguments.relation is not None:
+        relation, coordinates = _paper_relation(arguments, mechanism, points[0])
+    print(f"comparing {len(points)} configurations of {mechanism.name}", file=sys.stderr)
+    result = compare(model, np.stack(points), labels, relation=relation, coordinates=coordinates, rng=rng,
+                     output_names=output_names)
+    if arguments.format == "json":
+        out.write(json.dumps(result.to_dict(), indent=2, ensure_ascii=False) + "\n")
+    else:
+        out.write(result.to_text() + "\n")
