@@ -13,7 +13,7 @@ from mechanisms.io import read
 
 __all__ = [
     "MECHANISM_SUFFIXES", "InputError", "Parser", "entry_options", "common_options", "displacements",
-    "check_length_scale", "is_entry", "entry_values", "source", "joint_list",
+    "check_length_scale", "is_entry", "entry_values", "source", "joint_list", "finite", "dumps",
 ]
 
 MECHANISM_SUFFIXES = (".yaml", ".yml", ".json")
@@ -62,6 +62,29 @@ def displacements(text):
         raise InputError(f"--at: expected a JSON object mapping joint names to displacements, "
                          f"got {type(value).__name__}")
     return value
+
+
+def finite(value):
+    """`value` with every non-finite float (and NumPy scalar or array entry) replaced by None.
+
+    JSON has no NaN or infinity: an undefined quantity is ``null``.
+    """
+    if isinstance(value, dict):
+        return {key: finite(item) for key, item in value.items()}
+    if isinstance(value, (list, tuple)):
+        return [finite(item) for item in value]
+    if isinstance(value, np.ndarray):
+        return finite(value.tolist())
+    if isinstance(value, np.generic):
+        value = value.item()
+    if isinstance(value, float) and not np.isfinite(value):
+        return None
+    return value
+
+
+def dumps(value):
+    """The JSON text of a command's result: indented, UTF-8, never NaN or Infinity."""
+    return json.dumps(finite(value), indent=2, ensure_ascii=False, allow_nan=False)
 
 
 def check_length_scale(value):

@@ -3,13 +3,12 @@ the catalogue, describe an entry, or write it as a mechanism file."""
 
 from __future__ import annotations
 
-import json
 import sys
 
 from mechanisms import catalogue
 from mechanisms.io import save
 
-from ._common import InputError, entry_options, entry_values
+from ._common import InputError, dumps, entry_options, entry_values
 
 __all__ = ["add_parser", "run", "entry_description"]
 
@@ -44,7 +43,7 @@ def run(arguments, out):
             raise InputError("catalog: --write, --param and --configuration need a catalogue NAME")
         items = catalogue.entries()
         if arguments.format == "json":
-            out.write(json.dumps([_entry_dict(item) for item in items], indent=2, ensure_ascii=False) + "\n")
+            out.write(dumps([_entry_dict(item) for item in items]) + "\n")
             return
         width = max(len(item.name) for item in items)
         for item in items:
@@ -61,7 +60,7 @@ def run(arguments, out):
         print(f"{item.name} written to {arguments.write}", file=sys.stderr)
         return
     if arguments.format == "json":
-        out.write(json.dumps({**_entry_dict(item), "values": values}, indent=2, ensure_ascii=False) + "\n")
+        out.write(dumps({**_entry_dict(item), "values": values}) + "\n")
         return
     lines = [f"{item.name}: {item.summary}", f"from {item.reference}", "", "parameters (value, default):"]
     lines += [f"  {name} = {value!r}  (default {item.parameters[name]!r})" for name, value in values.items()]

@@ -3,14 +3,13 @@
 
 from __future__ import annotations
 
-import json
 
 import numpy as np
 
 from mechanisms import configuration
 
 from ..classification import classify
-from ._common import check_length_scale, common_options, displacements, entry_options, source
+from ._common import check_length_scale, common_options, displacements, dumps, entry_options, source
 
 __all__ = ["add_parser", "run"]
 
@@ -39,7 +38,7 @@ def run(arguments, out):
         result = report.to_dict()
         if arguments.project:
             result["projection_distance"] = projected.distance
-        out.write(json.dumps(result, indent=2, ensure_ascii=False) + "\n")
+        out.write(dumps(result) + "\n")
     else:
         if projected.distance:
             out.write(f"projected onto the C-space: moved by {projected.distance:.3g}\n")

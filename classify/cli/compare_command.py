@@ -4,7 +4,6 @@ difference."""
 
 from __future__ import annotations
 
-import json
 import sys
 from dataclasses import replace
 
@@ -18,7 +17,7 @@ from ..gosselin_angeles_examples import RELATIONS
 from ..model import joint_output_model, model_of
 from ..paths import path_configurations, singular_crossings
 from ._common import (
-    InputError, check_length_scale, common_options, displacements, entry_options, is_entry, joint_list, source,
+    InputError, check_length_scale, common_options, displacements, dumps, entry_options, is_entry, joint_list, source,
 )
 
 __all__ = ["add_parser", "run"]
@@ -124,6 +123,6 @@ def run(arguments, out):
     result = compare(model, np.stack(points), labels, relation=relation, coordinates=coordinates, rng=rng,
                      output_names=output_names)
     if arguments.format == "json":
-        out.write(json.dumps(result.to_dict(), indent=2, ensure_ascii=False) + "\n")
+        out.write(dumps(result.to_dict()) + "\n")
     else:
         out.write(result.to_text() + "\n")

@@ -4,7 +4,6 @@ derived Gosselin–Angeles kinds alongside."""
 
 from __future__ import annotations
 
-import json
 import sys
 from pathlib import Path
 
@@ -17,7 +16,7 @@ from ..classification import classify
 from ..comparison import comparison_row
 from ..model import model_of
 from ..survey import survey as survey_mechanism
-from ._common import MECHANISM_SUFFIXES, InputError, check_length_scale, common_options, is_entry
+from ._common import MECHANISM_SUFFIXES, InputError, check_length_scale, common_options, dumps, is_entry
 
 __all__ = ["add_parser", "run", "report_table"]
 
@@ -119,9 +118,9 @@ def run(arguments, out):
     if paths:
         reports += list(_file_reports(paths, arguments))
     if arguments.format == "json":
-        text = json.dumps([{"source": source, "configuration_name": name, **report.to_dict(),
+        text = dumps([{"source": source, "configuration_name": name, **report.to_dict(),
                             "comparison": comparison.to_dict(park_kim=False)}
-                           for source, name, report, comparison in reports], indent=2, ensure_ascii=False)
+                           for source, name, report, comparison in reports])
     else:
         details = "\n\n".join(f"== {path} [{name}]\n{report.to_text()}\n  Gosselin–Angeles (derived): "
                                f"{_comparison_text(comparison)}"
