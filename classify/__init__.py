@@ -20,6 +20,7 @@ from .metrics import (
 from .model import Model, joint_output_model, model_of
 from .paths import path_configurations, singular_crossings
 from .report import KINDS, KindResult, Report
+from .higher_order import HigherOrderResult, higher_order_test
 from .second_order import SECOND_ORDER_RTOL, SecondOrderResult, SelfMotion, fibre, second_order_test
 from .survey import Survey, survey
 
@@ -34,5 +35,6 @@ __all__ = [
     "Model", "joint_output_model", "model_of",
     "KINDS", "KindResult", "Report",
     "SECOND_ORDER_RTOL", "SecondOrderResult", "SelfMotion", "fibre", "second_order_test",
+    "HigherOrderResult", "higher_order_test",
     "Survey", "survey",
 ]

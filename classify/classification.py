@@ -4,10 +4,17 @@ Each kind is a rank drop below the rank expected of it (docs/design.rst, "The
 three kinds"):
 
 * C-space: ``rank DΦ(p) < r``, r the rank of DΦ on M near p;
-* actuator: ``rank G(p) < min(m, largest rank of G on M)``;
+* actuator: ``rank G(p) < m − i``, i the idle freedoms: m minus the largest
+  rank on M of the stacked map (E^½Dπ T; H^½Df T) (of G without
+  end-effector). A locked-actuator freedom that moves the end-effector is
+  not idle: where there is one everywhere on M, the design is
+  architecturally singular and every configuration is an actuator
+  singularity (Gosselin & Angeles 1990, eq. 87), flagged in the report;
 * end-effector: ``rank J(p) < min(dim N, m, largest rank of J on M)``.
 
-All ranks come from :func:`manifold.numerical_rank` and carry their margins.
+All ranks come from :func:`manifold.numerical_rank` on dimensionless maps
+(DΦ·diag(s), unit actuator rows, H^½Df over its own scale) and carry their
+margins: no verdict depends on the unit of length or on actuator weights.
 At a C-space singularity, G and J are computed on ker DΦ(p) and flagged.
 """
 
@@ -15,13 +22,14 @@ from __future__ import annotations
 
 import numpy as np
 
-from manifold import DEFAULT_RTOL, local_rank, numerical_rank, tangent_basis
+from manifold import DEFAULT_RTOL, local_rank, numerical_rank, scaled_jacobian, tangent_basis
 from mechanisms import CLOSURE_TOLERANCE, ConfigurationError, Mechanism
 
-from .metrics import manipulability, metric_root
+from .metrics import largest_singular_value, manipulability, metric_root, unit_rows
 from .model import model_of
 from .report import KindResult, Report
 from .second_order import idle_slice, second_order_test
+from .survey import decision_blocks
 from .survey import survey as survey_mechanism
 
 __all__ = ["classify", "classify_many"]
@@ -74,10 +82,10 @@ def classify(mechanism, point, survey=None, rng=None, rtol=DEFAULT_RTOL, length_
         raise ConfigurationError(f"the configuration is not on the C-space (|Φ| = {residual:.3g}); project it first")
     names = model.coordinate_names
     k = manifold.ambient.dim
+    scales = manifold.ambient.tangent_scales
     notes = []
 
-    # C-space: rank of DΦ at p against the rank on M near p
-    jacobian = manifold.constraint_jacobian(point)
+    # C-space: rank of DΦ at p against the rank on M near p (dimensionless: DΦ·diag(s))
     basis, constraint_decision = tangent_basis(manifold, point, rtol=rtol)
     near = local_rank(manifold, point, rng, rtol=rtol)
     dof = k - near.rank
@@ -88,46 +96,40 @@ def classify(mechanism, point, survey=None, rng=None, rtol=DEFAULT_RTOL, length_
                         "tangent_cone_span": _secant_span(manifold, point, near.neighbours)}
         notes.append("C-space singularity: actuator and end-effector ranks are computed on ker DΦ(p), "
                      "which is larger than the tangent spaces of M nearby")
-    lost = _kernel_beyond(jacobian, constraint_decision.rank, near.rank) if cspace_singular else np.zeros((k, 0))
+    lost = (scales[:, None] * _kernel_beyond(scaled_jacobian(manifold, point), constraint_decision.rank, near.rank)
+            if cspace_singular else np.zeros((k, 0)))
     cspace = KindResult(cspace_singular, constraint_decision.rank, near.rank, constraint_decision, lost,
                         cspace_extra)
 
     if survey is None:
         survey = survey_mechanism(model, rng, starts=np.concatenate([model.starts, point[None]]), rtol=rtol)
 
-    # actuator: G = (E^½ T)ᵀ(E^½ T)
-    weighted = model.actuators
-    actuator_scale = _largest_singular_value(weighted)
-    actuator_block = weighted @ basis
+    # actuator: G = (E^½ T)ᵀ(E^½ T), decided on the unit actuator rows (weights and units do not matter)
+    actuator_block, actuator_scale, end_effector_block, end_effector_scale = decision_blocks(model, point, basis)
     actuator_decision = numerical_rank(actuator_block, rtol=rtol, scale=actuator_scale)
-    expected_actuator = min(dof, survey.actuator_rank)
+    idle = survey.idle_freedoms(dof)
+    expected_actuator = dof - idle
     actuator_singular = actuator_decision.rank < expected_actuator
-    idle = max(0, dof - survey.actuator_rank)
     actuator_kernel = basis @ _kernel(actuator_block, actuator_decision.rank)
     actuator = KindResult(actuator_singular, actuator_decision.rank, expected_actuator, actuator_decision,
                           actuator_kernel if actuator_singular else np.zeros((k, 0)),
                           {"on_kernel_of_constraint": True} if cspace_singular else {})
 
-    # end-effector: J = Df T
+    # end-effector: J = Df T, decided on H^½ J over σ₁(H^½ Df·diag(s))
     end_effector = None
-    end_effector_block = None
     n = model.end_effector_dimension
     if n:
-        root = metric_root(model.end_effector_metric)
-        full = model.end_effector_jacobian(point)
-        end_effector_block = full @ basis
-        weighted_block = root @ end_effector_block
-        decision = numerical_rank(weighted_block, rtol=rtol, scale=_largest_singular_value(root @ full))
+        decision = numerical_rank(end_effector_block, rtol=rtol, scale=end_effector_scale)
         expected = min(n, dof, survey.end_effector_rank)
         singular = decision.rank < expected
-        kernel = basis @ _kernel(weighted_block, decision.rank) if singular else np.zeros((k, 0))
+        kernel = basis @ _kernel(end_effector_block, decision.rank) if singular else np.zeros((k, 0))
         end_effector = KindResult(singular, decision.rank, expected, decision, kernel,
                                   {"on_kernel_of_constraint": True} if cspace_singular else {})
 
-    # manipulability proper values, where G is definite on T_pM
+    # manipulability proper values, where G is definite on T_pM (in the user's units and weights)
     proper = None
     if n and not cspace_singular and actuator_decision.rank == basis.shape[1] and basis.shape[1] > 0:
-        proper = manipulability(actuator_block, end_effector_block,
+        proper = manipulability(model.actuators @ basis, model.end_effector_jacobian(point) @ basis,
                                 model.end_effector_metric, min(n, dof), rank=end_effector.rank)
 
     # second order, at regular points of M only
@@ -135,26 +137,28 @@ def classify(mechanism, point, survey=None, rng=None, rtol=DEFAULT_RTOL, length_
     if actuator_singular and cspace_singular:
         notes.append("the second-order test is not run at a C-space singularity: degeneracy undetermined")
     if actuator_singular and not cspace_singular:
+        unit_actuators = unit_rows(model.actuators, scales)
         tested, tested_basis = manifold, basis
         if idle:
-            tested, _ = idle_slice(manifold, point, basis, near.neighbours, weighted, idle, rtol=rtol)
+            tested, _ = idle_slice(manifold, point, basis, near.neighbours, _freedom_rows(model), idle, rtol=rtol)
             if tested is None:
                 notes.append("idle freedoms: no neighbour on M to find their directions; "
                              "the second-order test is not run")
             else:
                 tested_basis = tangent_basis(tested, point, rtol=rtol)[0]
                 notes.append(f"second-order test on a slice of M through p transverse to the {idle} idle "
-                             f"freedom(s) (their directions: the limit of ker G at neighbours on M)")
+                             f"freedom(s) (their directions: the limit of the idle kernels at neighbours on M)")
         if tested is not None:
-            second = second_order_test(tested, point, tested_basis, weighted, rng, rtol=rtol,
+            second = second_order_test(tested, point, tested_basis, unit_actuators, rng, rtol=rtol,
                                        scale=actuator_scale)
     if idle:
-        notes.append(f"{idle} idle freedom(s): G has rank at most {survey.actuator_rank} on M")
-    moving = min(idle, survey.moving_idle_freedoms)
+        notes.append(f"{idle} idle freedom(s): motions that move neither an actuator nor the end-effector")
+    moving = min(dof, survey.moving_idle_freedoms)
     if moving:
-        notes.append(f"{moving} of the idle freedoms move the end-effector: with the actuators locked the "
-                     f"end-effector is not fixed anywhere on M — an architecture singularity, unless the task "
-                     f"ignores that motion (e.g. the spin of an axisymmetric tool)")
+        notes.append(f"architecture singularity: {moving} locked-actuator freedom(s) move the end-effector at "
+                     f"every configuration of M (G has rank at most {survey.actuator_rank} on M), so every "
+                     f"configuration is an actuator singularity — unless the task ignores that motion (e.g. the "
+                     f"spin of an axisymmetric tool)")
 
     return Report(
         mechanism=model.name, dof=dof, ambient_dimension=k, coordinate_names=names,
@@ -162,6 +166,22 @@ def classify(mechanism, point, survey=None, rng=None, rtol=DEFAULT_RTOL, length_
         end_effector=end_effector, manipulability=proper, second_order=second,
         idle_freedoms=idle, survey=survey.to_dict(), notes=tuple(notes), moving_idle_freedoms=moving,
     )
+
+
+def _freedom_rows(model):
+    """``q ↦`` the stacked dimensionless rows (unit actuators; H^½ Df over its scale) whose kernel on T_qM
+    is the idle freedoms (the actuator rows alone without end-effector)."""
+    scales = model.manifold.ambient.tangent_scales
+    actuators = unit_rows(model.actuators, scales)
+    if not model.end_effector_dimension:
+        return lambda point: actuators
+    root = metric_root(model.end_effector_metric)
+
+    def rows(point):
+        jacobian = root @ model.end_effector_jacobian(point)
+        return np.vstack([actuators, jacobian / max(largest_singular_value(jacobian * scales), 1e-300)])
+
+    return rows
 
 
 def classify_many(mechanism, points, survey=None, rng=None, **options):
@@ -192,21 +212,16 @@ def classify_many(mechanism, points, survey=None, rng=None, **options):
     return [classify(model, point, survey=survey, rng=rng, **options) for point in flat]
 
 
-def _largest_singular_value(matrix):
-    """σ₁ of a matrix (0 for an empty one): the reference scale of a restricted map's rank."""
-    return float(np.linalg.norm(matrix, 2)) if np.size(matrix) else 0.0
-
-
 def _kernel_beyond(jacobian, rank, expected):
-    """The directions of ker DΦ(p) in excess of the nearby tangent spaces (the weakest rows' partners)."""
+    """The directions of ker DΦ(p)·diag(s) in excess of the nearby tangent spaces (dimensionless)."""
     _, _, right = np.linalg.svd(jacobian, full_matrices=True)
     return right[rank:expected].T
 
 
 def _secant_span(manifold, point, neighbours):
-    """Numerical rank of the secants from p to nearby points of M (span of the tangent cone)."""
+    """Numerical rank of the dimensionless secants from p to nearby points of M (span of the tangent cone)."""
     if not len(neighbours):
         return 0
-    secants = manifold.ambient.inverse_retract(point, neighbours)
+    secants = manifold.ambient.inverse_retract(point, neighbours) / manifold.ambient.tangent_scales
     secants = secants / np.linalg.norm(secants, axis=1, keepdims=True)
     return int(numerical_rank(secants, rtol=1e-2).rank)

@@ -29,6 +29,7 @@ from mechanisms import Mechanism
 from .classification import classify
 from .gosselin_angeles import GA_KINDS, derived_gosselin_angeles, gosselin_angeles
 from .model import model_of
+from .report import format_values, printable, source_lines
 from .survey import survey as survey_model
 
 __all__ = ["REASONS", "expected_kinds", "correspondence", "ComparisonRow", "Comparison", "comparison_row", "compare",
@@ -41,7 +42,7 @@ REASONS = {
     "unequal_dimensions": "inputs and outputs differ in number: G–A needs n of each (choose them, e.g. "
                           "`closedchain compare --inputs … --outputs …`)",
     "idle_freedom": "a freedom the inputs do not control moves the outputs everywhere on M (an architecture "
-                    "singularity, e.g. G–A eq. 87's similar hexagons): Park–Kim counts it as an idle freedom, "
+                    "singularity, e.g. G–A eq. 87's similar hexagons): Park–Kim flags an architecture singularity, "
                     "G–A sees det A = 0 everywhere, or no n×n A and B at all",
     "stationary_motion": "a motion of M moves neither inputs nor outputs here: {(Dπ T u, J u)} has "
                          "dimension below n and does not determine A and B",
@@ -215,8 +216,19 @@ class Comparison:
                 "gosselin_angeles_source": self.source,
                 "configurations": [row.to_dict() for row in self.rows], "summary": self.summary}
 
-    def to_text(self):
-        """A table, one row per configuration, then the summary and the reasons used."""
+    def to_text(self, source=None):
+        """A table, one row per configuration, then the summary, the reasons used and the joint values.
+
+        Parameters
+        ----------
+        source : dict, optional
+            Where the configurations come from (:func:`classify.report.source_lines`), printed under the title.
+
+        Returns
+        -------
+        str
+            Every name escaped with :func:`classify.report.printable`.
+        """
         header = ("configuration", "Park–Kim", "G–A", "rank A", "rank B", "agree", "reason")
         table = []
         for row in self.rows:
@@ -225,14 +237,18 @@ class Comparison:
             if report.degeneracy:
                 pk += f" ({report.degeneracy})"
             rank = (lambda value: "-" if value is None else f"{value}/{ga.n}")
-            table.append((row.label, pk, ga.label, rank(ga.rank_A), rank(ga.rank_B),
+            table.append((printable(row.label), pk, ga.label, rank(ga.rank_A), rank(ga.rank_B),
                           "yes" if row.agree else "NO", row.reason or ""))
         widths = [max(len(line[i]) for line in table + [header]) for i in range(len(header))]
-        lines = [f"{self.mechanism}: Park–Kim and Gosselin–Angeles ({self.source}); "
-                 f"inputs {', '.join(self.inputs)}; outputs {', '.join(self.outputs)}", ""]
+        lines = [f"{printable(self.mechanism)}: Park–Kim and Gosselin–Angeles ({printable(self.source)}); "
+                 f"inputs {', '.join(map(printable, self.inputs))}; outputs {', '.join(map(printable, self.outputs))}"]
+        if source is not None:
+            lines += source_lines(source)
+        lines.append("")
+        top = len(lines)
         lines += ["  ".join(cell.ljust(width) for cell, width in zip(line, widths)).rstrip()
                   for line in [header] + table]
-        lines.insert(3, "  ".join("-" * width for width in widths))
+        lines.insert(top + 1, "  ".join("-" * width for width in widths))
         summary = self.summary
         lines += ["", f"{summary['agree']} of {summary['configurations']} configurations correspond; "
                   f"{summary['disagree']} differ"]
@@ -243,7 +259,10 @@ class Comparison:
             if row.note and not row.agree:
                 notes.setdefault(row.note, []).append(row.label)
         for note, where in notes.items():
-            lines.append(f"  [{', '.join(where)}] {note}")
+            lines.append(f"  [{', '.join(map(printable, where))}] {printable(note)}")
+        lines += ["", "joint values (displacements from home):"]
+        lines += [f"  {printable(row.label)}: " + format_values(row.park_kim.joint_values, indent="      ")
+                  for row in self.rows]
         return "\n".join(lines)
 
 

@@ -29,6 +29,7 @@ from mechanisms import actuator_jacobian, end_effector_dimension, kinematics_of
 __all__ = [
     "actuator_metric", "weighted_actuator_jacobian", "end_effector_metric",
     "metric_root", "pullback_metric", "Manipulability", "manipulability",
+    "unit_rows", "largest_singular_value",
 ]
 
 
@@ -43,6 +44,37 @@ def weighted_actuator_jacobian(mechanism):
     """``E^{1/2}`` on the actuated rows: ``diag(√w) Dπ``, shape=[a, k]."""
     weights = np.sqrt(np.asarray(mechanism.actuator_weights, dtype=float))
     return weights[:, None] * actuator_jacobian(mechanism)
+
+
+def unit_rows(matrix, scales):
+    """The rows of a map on joint rates, each divided by its dimensionless norm ``|row·diag(s)|``.
+
+    Rank decisions on G = Tᵀ E T use ``unit_rows(E^½ Dπ, s)`` instead of
+    ``E^½ Dπ``: with positive weights both have the same kernel on any
+    subspace, but the unit rows depend neither on the weights nor on the
+    unit of length of a prismatic actuator, so neither can change a verdict
+    (a weight of 1e-300 or a mechanism drawn in micrometres decides as one in
+    metres with weight 1).
+
+    Parameters
+    ----------
+    matrix : ndarray, shape=[a, k]
+    scales : ndarray, shape=[k]
+        The tangent scales s (:attr:`manifold.AmbientSpace.tangent_scales`).
+
+    Returns
+    -------
+    ndarray, shape=[a, k]
+        Zero rows stay zero.
+    """
+    matrix = np.asarray(matrix, dtype=float)
+    norms = np.linalg.norm(matrix * scales, axis=-1, keepdims=True)
+    return np.divide(matrix, norms, out=np.zeros_like(matrix), where=norms > 0)
+
+
+def largest_singular_value(matrix):
+    """σ₁ of a matrix (0 for an empty one): the reference scale of a restricted map's rank."""
+    return float(np.linalg.norm(matrix, 2)) if np.size(matrix) else 0.0
 
 
 def end_effector_metric(mechanism, length_scale=None):

@@ -12,9 +12,128 @@ from manifold import RankDecision
 from .metrics import Manipulability
 from .second_order import SecondOrderResult
 
-__all__ = ["KindResult", "Report", "KINDS"]
+__all__ = ["KindResult", "Report", "KINDS", "printable", "format_values", "source_lines"]
 
 KINDS = ("actuator", "cspace", "end_effector")
+
+
+def printable(name):
+    """`name` as text safe to print: every non-printable character escaped.
+
+    Control characters (ESC, NUL, newline, …) and other non-printable
+    characters (zero-width or bidirectional marks, separators) are written as
+    Python escapes (``\\x1b``, ``\\n``, ``\\u200b``), so a name from a file or
+    the command line cannot move the cursor, colour the terminal or forge a
+    line of output. JSON output needs none of this: JSON escapes them itself.
+
+    Parameters
+    ----------
+    name : object
+        A joint, mechanism, configuration or file name (converted with ``str``).
+
+    Returns
+    -------
+    str
+
+    Examples
+    --------
+    >>> printable("J\\x1b[31m")
+    'J\\\\x1b[31m'
+    >>> print(printable("J\\nclosedchain: error: forged"))
+    J\\nclosedchain: error: forged
+    """
+    text = str(name)
+    if text.isprintable():
+        return text
+    return "".join(character if character.isprintable() else _escaped(character) for character in text)
+
+
+def _escaped(character):
+    """The Python escape of one character (``\\n``, ``\\x00``, ``\\u202e``)."""
+    return character.encode("unicode_escape").decode("ascii")
+
+
+def _number(value):
+    """A joint value or parameter for text: 4 significant digits, no negative zero."""
+    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
+        return printable(value)
+    text = f"{float(value):.4g}"
+    return "0" if text == "-0" else text
+
+
+def format_values(values, width=100, indent="      "):
+    """``name = value`` pairs as wrapped text lines (names escaped with :func:`printable`).
+
+    Parameters
+    ----------
+    values : dict
+        Name -> number (or any value, printed as text).
+    width : int
+        Line width of the wrapped text.
+    indent : str
+        Indent of the continuation lines.
+
+    Returns
+    -------
+    str
+        The pairs, comma-separated; continuation lines start with `indent`.
+
+    Examples
+    --------
+    >>> format_values({"crank": 0.5235987755982989, "slide": -0.0})
+    'crank = 0.5236, slide = 0'
+    """
+    pairs = [f"{printable(name)} = {_number(value)}" for name, value in values.items()]
+    if not pairs:
+        return "(none)"
+    lines = [pairs[0]]
+    for pair in pairs[1:]:
+        used = len(lines[-1]) + (len(indent) if len(lines) == 1 else 0)  # the caller indents the first line
+        if used + len(pair) + 2 > width:
+            lines[-1] += ","
+            lines.append(indent + pair)
+        else:
+            lines[-1] += ", " + pair
+    return "\n".join(lines)
+
+
+def source_lines(source, indent="  "):
+    """The text lines that say where a result comes from.
+
+    Parameters
+    ----------
+    source : dict
+        ``{"catalogue": NAME, "parameters": {...}, "configuration": C}`` or
+        ``{"file": PATH, "configuration": C}``, optionally with ``"at"``
+        (the displacements given with ``--at``); C is a name or None.
+    indent : str
+
+    Returns
+    -------
+    list of str
+    """
+    configuration = source.get("configuration")
+    where = f", configuration {printable(configuration)}" if configuration is not None else ""
+    if "catalogue" in source:
+        lines = [f"{indent}source: catalogue entry {printable(source['catalogue'])}"
+                 f"{where or ' at its default parameters'}",
+                 f"{indent}parameters: " + format_values(source.get("parameters", {}), indent=indent + "    ")]
+    else:
+        lines = [f"{indent}source: file {printable(source.get('file'))}{where}"]
+    if source.get("at"):
+        lines.append(f"{indent}--at: " + format_values(_flat(source["at"]), indent=indent + "    "))
+    return lines
+
+
+def _flat(displacements):
+    """Displacements by joint (numbers or lists) as one number per coordinate: ``S1[0]``, ``S1[1]``, …."""
+    result = {}
+    for name, value in displacements.items():
+        if isinstance(value, (list, tuple, np.ndarray)):
+            result.update({f"{name}[{index}]": item for index, item in enumerate(value)})
+        else:
+            result[name] = value
+    return result
 
 
 def _named(vector, names, threshold=1e-9):
@@ -87,9 +206,15 @@ class Report:
     survey : dict
     notes : tuple of str
     moving_idle_freedoms : int
-        How many idle freedoms move the end-effector (see
-        :attr:`classify.survey.Survey.moving_idle_freedoms`): a sign of an
-        architecture singularity.
+        How many locked-actuator freedoms move the end-effector at every
+        configuration of M (:attr:`classify.survey.Survey.moving_idle_freedoms`).
+        They are not idle (docs/design.rst, "The three kinds"): where there is
+        one, the design is architecturally singular.
+    source : dict or None
+        Where the configuration comes from, for the reader (set by the
+        command line): ``{"catalogue": NAME, "parameters": {...},
+        "configuration": C}`` or ``{"file": PATH, "configuration": C}``
+        (:func:`source_lines`).
     """
 
     mechanism: str
@@ -106,6 +231,7 @@ class Report:
     survey: dict
     notes: tuple = ()
     moving_idle_freedoms: int = 0
+    source: Optional[dict] = None
 
     @property
     def kinds(self):
@@ -116,6 +242,27 @@ class Report:
     @property
     def singular(self):
         return bool(self.kinds)
+
+    @property
+    def architecture_singular(self):
+        """Whether the design is singular at every configuration: with the actuators locked, the
+        end-effector still moves (Gosselin & Angeles 1990, eq. 87)."""
+        return self.moving_idle_freedoms > 0
+
+    @property
+    def joint_values(self):
+        """The configuration as {joint coordinate name: displacement from home}.
+
+        One number per coordinate of :attr:`coordinate_names`, in their order;
+        a ball joint's displacement is its rotation vector. Empty when the
+        report has no joint displacements (a model without joints).
+        """
+        values = [float(value) for value in np.ravel(np.concatenate(
+            [np.ravel(np.asarray(value, dtype=float)) for value in self.displacements.values()]))] \
+            if self.displacements else []
+        if len(values) != len(self.coordinate_names):
+            return _flat(self.displacements)
+        return dict(zip(self.coordinate_names, values))
 
     @property
     def degeneracy(self):
@@ -131,6 +278,7 @@ class Report:
         actuator["degeneracy"] = self.degeneracy
         actuator["idle_freedoms"] = int(self.idle_freedoms)
         actuator["moving_idle_freedoms"] = int(self.moving_idle_freedoms)
+        actuator["architecture_singular"] = self.architecture_singular
         if self.second_order is not None:
             second = self.second_order
             actuator["second_order"] = {
@@ -143,27 +291,39 @@ class Report:
                     "largest_residual": float(second.self_motion.largest_residual),
                 },
             }
-        return {
+        result = {
             "mechanism": self.mechanism,
             "dof": int(self.dof),
             "singular": self.singular,
             "kinds": list(self.kinds),
+            "architecture_singular": self.architecture_singular,
             "cspace": self.cspace.to_dict(names),
             "actuator": actuator,
             "end_effector": None if self.end_effector is None else self.end_effector.to_dict(names),
             "manipulability": None if self.manipulability is None else self.manipulability.to_dict(),
             "ambient_dimension": int(self.ambient_dimension),
             "configuration": self.displacements,
+            "joint_values": self.joint_values,
             "survey": self.survey,
             "notes": list(self.notes),
         }
+        if self.source is not None:
+            result = {"mechanism": result.pop("mechanism"), "source": self.source, **result}
+        return result
 
     def to_text(self):
         """A readable account: ranks, margins, kernel directions, self-motion."""
         names = self.coordinate_names
-        lines = [f"{self.mechanism}: "
-                 + (f"SINGULAR ({', '.join(self.kinds)})" if self.singular else "regular"),
-                 f"  dof m = {self.dof} (k = {self.ambient_dimension} joint coordinates)"]
+        lines = [f"{printable(self.mechanism)}: "
+                 + (f"SINGULAR ({', '.join(self.kinds)})" if self.singular else "regular")]
+        if self.source is not None:
+            lines += source_lines(self.source)
+        if self.displacements:
+            catalogued = self.source is not None and "catalogue" in self.source
+            lines.append("  joint values (from home; the parameters build the home at this configuration):"
+                         if catalogued else "  joint values (displacements from home):")
+            lines.append("      " + format_values(self.joint_values))
+        lines.append(f"  dof m = {self.dof} (k = {self.ambient_dimension} joint coordinates)")
 
         def describe(label, result, extra=""):
             if result is None:
@@ -184,8 +344,11 @@ class Report:
         degeneracy = f", {self.degeneracy}" if self.actuator.singular else ""
         describe("actuator", self.actuator, degeneracy)
         if self.idle_freedoms:
-            moving = f", {self.moving_idle_freedoms} moving the end-effector" if self.moving_idle_freedoms else ""
-            lines.append(f"      idle freedoms: {self.idle_freedoms} (not counted as singular{moving})")
+            lines.append(f"      idle freedoms: {self.idle_freedoms} (move neither an actuator nor the "
+                         f"end-effector; not counted as singular)")
+        if self.architecture_singular:
+            lines.append(f"      ARCHITECTURE SINGULARITY: {self.moving_idle_freedoms} locked-actuator "
+                         f"freedom(s) move the end-effector at every configuration of M")
         if self.second_order is not None:
             second = self.second_order
             lines.append(f"      second order: min |Q(v)| = {second.smallest:.3g} "
@@ -203,9 +366,9 @@ class Report:
                          f"{'∞' if condition is None else f'{condition:.4g}'}, "
                          f"volume {self.manipulability.volume:.4g}")
         for note in self.notes:
-            lines.append(f"  note: {note}")
+            lines.append(f"  note: {printable(note)}")
         return "\n".join(lines)
 
 
 def _format_direction(named):
-    return ", ".join(f"{name} {value:+.3f}" for name, value in named.items()) or "(zero)"
+    return ", ".join(f"{printable(name)} {value:+.3f}" for name, value in named.items()) or "(zero)"

@@ -18,7 +18,10 @@ cases (the paper warns with x⁴ + y⁴). We test at the order where it works
   its fibre);
 * degenerate: a self-motion, certified by continuing the fibre
   ``{Φ = 0, π = π(p̄)}`` from p̄ along a common root to a finite distance;
-* undetermined: the forms have a common root but no self-motion is found.
+* beyond: where the forms share a root and no self-motion is found, the
+  fibre's formal curves are obstructed order by order
+  (:mod:`classify.higher_order`): isolated at some order s is
+  nondegenerate; otherwise undetermined, with the order reached.
 """
 
 from __future__ import annotations
@@ -31,8 +34,11 @@ import scipy.optimize
 
 from manifold import ImplicitManifold, constraint_curvature, continue_curve, numerical_rank, tangent_basis
 
+from .higher_order import higher_order_test
+
 __all__ = [
     "SECOND_ORDER_RTOL", "SelfMotion", "SecondOrderResult", "second_order_test", "fibre", "idle_slice",
+    "common_roots",
 ]
 
 #: forms count as vanishing at v when sqrt(Σ Q_e(v)²) ≤ SECOND_ORDER_RTOL · c · s, with c the largest
@@ -47,7 +53,7 @@ class SelfMotion:
     Attributes
     ----------
     direction : ndarray, shape=[k]
-        Initial direction (joint rates), unit length.
+        Initial direction (joint rates), of unit dimensionless length ‖v / s‖.
     distance : float
         Distance reached from p̄ (scaled chart units).
     largest_residual : float
@@ -79,6 +85,9 @@ class SecondOrderResult:
         The (near) common root, as a joint-rate vector.
     self_motion : SelfMotion or None
     reason : str
+    higher_order : HigherOrderResult or None
+        The test beyond second order, where the forms have a common root and no
+        self-motion was found.
     """
 
     degeneracy: str
@@ -89,6 +98,7 @@ class SecondOrderResult:
     root: Optional[np.ndarray]
     self_motion: Optional[SelfMotion]
     reason: str
+    higher_order: Optional[object] = None
 
 
 def fibre(manifold, point, selection):
@@ -118,20 +128,20 @@ def fibre(manifold, point, selection):
     return ImplicitManifold(ambient, constraint, jacobian, is_solution=manifold.is_solution)
 
 
-def idle_slice(manifold, point, basis, neighbours, selection, idle, rtol=1e-6):
-    """M cut through p̄ transversally to its idle freedoms: ``M ∩ {Iᵀ(q ⊖ p̄) = 0}``.
+def idle_slice(manifold, point, basis, neighbours, freedom_rows, idle, rtol=1e-6):
+    """M cut through p̄ transversally to its idle freedoms: ``M ∩ {Iᵀ((q ⊖ p̄)/s) = 0}``.
 
-    With idle freedoms (G of rank m − ι everywhere on M) every fibre of the
-    actuators contains the ι-dimensional orbits of those freedoms, so the
-    second-order test must look for self-motions *beyond* them. I, the idle
-    directions at p̄, is the limit of ker G(q) at regular points q of M near
-    p̄: the ι leading eigenvectors of the mean of the projectors onto
-    ker G(q) over `neighbours` (the ι smallest right singular vectors of
-    E^½Dπ at q), projected onto T_p̄M. On the slice, G has no
-    idle freedom, and p̄ is isolated in the slice's fibre exactly when the
-    fibre of M near p̄ is the idle orbit of p̄: the test run on the slice
-    separates nondegenerate from degenerate (a self-motion on the slice is a
-    genuine finite motion with the actuators locked, other than the idle one).
+    With idle freedoms (motions that move neither an actuator nor the
+    end-effector, ι of them everywhere on M) every fibre of the actuators
+    contains their ι-dimensional orbits, so the second-order test must look
+    for self-motions *beyond* them. I, the idle directions at p̄, is the limit
+    of the idle kernels at regular points q of M near p̄: the ι leading
+    eigenvectors of the mean of the projectors onto ker(`freedom_rows`(q) T_q)
+    over `neighbours`, projected onto T_p̄M — all in dimensionless coordinates
+    u = v / s, so the slice depends neither on the tangent bases chosen nor on
+    the unit of length. On the slice the test separates nondegenerate from
+    degenerate: a self-motion on the slice is a genuine finite motion with the
+    actuators locked, other than the idle one.
 
     Parameters
     ----------
@@ -139,13 +149,15 @@ def idle_slice(manifold, point, basis, neighbours, selection, idle, rtol=1e-6):
     point : ndarray, shape=[point_size]
         p̄, a regular point of M.
     basis : ndarray, shape=[k, m]
-        Orthonormal basis of T_p̄M.
+        Tangent basis of T_p̄M from :func:`manifold.tangent_basis`.
     neighbours : ndarray, shape=[n, point_size]
         Points of M near p̄ (e.g. :attr:`manifold.LocalRank.neighbours`).
-    selection : ndarray, shape=[a, k]
-        Dπ (optionally weighted).
+    freedom_rows : callable
+        ``freedom_rows(q) -> array, shape=[rows, k]``: the map whose kernel on
+        T_qM is the idle freedoms (the stacked actuator and end-effector rows,
+        or the actuator rows without end-effector).
     idle : int
-        ι, m minus the largest rank of G on M.
+        ι.
     rtol : float
         Rank cut of DΦ at the neighbours.
 
@@ -154,8 +166,9 @@ def idle_slice(manifold, point, basis, neighbours, selection, idle, rtol=1e-6):
     slice : ImplicitManifold or None
         None when no neighbour is a regular point of M.
     directions : ndarray, shape=[k, ι]
-        I, orthonormal.
+        I, orthonormal (dimensionless coordinates).
     """
+    scales = manifold.ambient.tangent_scales
     expected = basis.shape[1] - idle
     projector = np.zeros((basis.shape[0],) * 2)
     used = 0
@@ -163,24 +176,27 @@ def idle_slice(manifold, point, basis, neighbours, selection, idle, rtol=1e-6):
         tangent, _ = tangent_basis(manifold, neighbour, rtol=rtol)
         if tangent.shape[1] != basis.shape[1]:
             continue
-        # the ι smallest right singular vectors: G has rank ≤ m − ι everywhere, so they are exact
-        # kernel vectors, while the singularity's own small singular values grow with the distance
-        kernel = tangent @ np.linalg.svd(selection @ tangent, full_matrices=True)[2][expected:].T
+        # the ι smallest right singular vectors: the idle freedoms are exact kernel vectors everywhere,
+        # while the singularity's own small singular values grow with the distance
+        right = np.linalg.svd(freedom_rows(neighbour) @ tangent, full_matrices=True)[2][expected:].T
+        kernel = (tangent @ right) / scales[:, None]
         projector += kernel @ kernel.T
         used += 1
     if not used:
         return None, np.zeros((basis.shape[0], 0))
     leading = np.linalg.eigh(projector / used)[1][:, ::-1][:, :idle]
-    directions = np.linalg.qr(basis @ (basis.T @ leading))[0]
+    unit_basis = basis / scales[:, None]
+    directions = np.linalg.qr(unit_basis @ (unit_basis.T @ leading))[0]
+    rows = directions.T / scales
     ambient = manifold.ambient
     base = np.asarray(point, dtype=float)
 
     def constraint(q):
-        return np.concatenate([manifold.constraint(q), ambient.inverse_retract(base, q) @ directions], axis=-1)
+        return np.concatenate([manifold.constraint(q), ambient.inverse_retract(base, q) @ rows.T], axis=-1)
 
     def jacobian(q):
-        rows = np.broadcast_to(directions.T, np.shape(q)[:-1] + directions.T.shape)
-        return np.concatenate([manifold.constraint_jacobian(q), rows], axis=-2)
+        return np.concatenate([manifold.constraint_jacobian(q),
+                               np.broadcast_to(rows, np.shape(q)[:-1] + rows.shape)], axis=-2)
 
     def hessian(q):
         zeros = np.zeros(np.shape(q)[:-1] + (idle,) + (basis.shape[0],) * 2)
@@ -189,102 +205,170 @@ def idle_slice(manifold, point, basis, neighbours, selection, idle, rtol=1e-6):
     return ImplicitManifold(ambient, constraint, jacobian, hessian, manifold.is_solution), directions
 
 
-def _smallest_common_value(forms, rng, starts=64):
-    """min over the unit sphere of sqrt(Σ_e (vᵀ Q_e v)²) and its argmin.
+def _form_values(forms, vectors):
+    """sqrt(Σ_e (vᵀ Q_e v)²) at unit vectors, shape=[n]."""
+    vectors = vectors / np.linalg.norm(vectors, axis=-1, keepdims=True)
+    return np.sqrt(np.sum(np.einsum("ni,eij,nj->ne", vectors, forms, vectors) ** 2, axis=-1))
 
-    dim K = 1: exact. dim K = 2: a dense scan of the half circle v = (cos t, sin t)
-    refined by bounded minimisation (deterministic). Higher dimensions: the best of
-    `starts` random unit vectors refined by least squares (a missed common root is possible; the
-    reported minimum shows the margin).
+
+def _distinct(vectors, values):
+    """Unit vectors sorted by value, without repeats up to sign."""
+    kept, kept_values = [], []
+    for index in np.argsort(values, kind="stable"):
+        vector = vectors[index] / np.linalg.norm(vectors[index])
+        if all(abs(vector @ other) < 1 - 1e-6 for other in kept):
+            kept.append(vector)
+            kept_values.append(values[index])
+    return np.array(kept), np.array(kept_values)
+
+
+def common_roots(forms, tolerance, rng, starts=None, refined=16):
+    """The common roots of quadratic forms on the unit sphere, and the smallest value reached.
+
+    Minimises ``q(v) = sqrt(Σ_e (vᵀ Q_e v)²)`` over unit v. dim K = 1: exact.
+    dim K = 2: a scan of the half circle, every local minimum refined by
+    bounded minimisation. Higher dimensions: `starts` random unit vectors and
+    the coordinate axes, the best `refined` of them refined by least squares.
+    Directions along which every form vanishes identically (the common
+    radical ``{v : Q_e v = 0 ∀e}``) are roots too and always included. Every
+    minimum below `tolerance` is a root; all of them are returned, so that a
+    caller can try each (the verdict must not depend on which root a
+    particular basis of K or BLAS build would have found first).
+
+    Parameters
+    ----------
+    forms : ndarray, shape=[c, κ, κ]
+        Symmetric forms in an orthonormal basis of K.
+    tolerance : float
+    rng : numpy.random.Generator
+    starts : int, optional
+        Random starts in dimension ≥ 3; default 32·κ.
+    refined : int
+
+    Returns
+    -------
+    smallest : float
+        min q(v) found over the unit sphere.
+    roots : ndarray, shape=[r, κ]
+        Unit roots (q ≤ tolerance), smallest value first, distinct up to sign; r may be 0.
     """
     dimension = forms.shape[-1]
     if forms.shape[0] == 0:
-        return 0.0, np.eye(dimension)[:, 0]
-
-    def value(vector):
-        vector = vector / np.linalg.norm(vector)
-        return float(np.sqrt(np.sum(np.einsum("i,eij,j->e", vector, forms, vector) ** 2)))
-
-    if dimension == 1:
-        return value(np.ones(1)), np.ones(1)
+        return 0.0, np.eye(dimension)
+    candidates = [np.eye(dimension)]
+    radical = np.linalg.svd(forms.reshape(-1, dimension))
+    scale = max(float(radical[1][0]) if radical[1].size else 0.0, 1e-300)
+    rank = int(np.count_nonzero(radical[1] > tolerance)) if scale > tolerance else 0
+    candidates.append(radical[2][rank:])
     if dimension == 2:
         angles = np.linspace(0.0, np.pi, 721)
-        values = [value(np.array([np.cos(a), np.sin(a)])) for a in angles]
-        best = int(np.argmin(values))
+        circle = np.stack([np.cos(angles), np.sin(angles)], axis=-1)
+        values = _form_values(forms, circle)
         step = angles[1] - angles[0]
-        result = scipy.optimize.minimize_scalar(lambda a: value(np.array([np.cos(a), np.sin(a)])),
-                                                bounds=(angles[best] - step, angles[best] + step),
-                                                method="bounded", options={"xatol": 1e-12})
-        angle = result.x if result.fun <= values[best] else angles[best]
-        vector = np.array([np.cos(angle), np.sin(angle)])
-        return value(vector), vector
-    candidates = rng.standard_normal((starts, dimension))
-    best = min(candidates, key=value)
+        around = np.concatenate([values[-2:-1], values, values[1:2]])
+        minima = np.flatnonzero((values <= around[:-2]) & (values <= around[2:]))
+        for index in minima:
+            result = scipy.optimize.minimize_scalar(
+                lambda a: _form_values(forms, np.array([[np.cos(a), np.sin(a)]]))[0],
+                bounds=(angles[index] - step, angles[index] + step), method="bounded", options={"xatol": 1e-12})
+            candidates.append(np.array([[np.cos(result.x), np.sin(result.x)], circle[index]]))
+    elif dimension >= 3:
+        count = 32 * dimension if starts is None else starts
+        guesses = np.concatenate([np.eye(dimension), rng.standard_normal((count, dimension))])
+        values = _form_values(forms, guesses)
 
-    def residuals(vector):
-        vector = vector / np.linalg.norm(vector)
-        return np.einsum("i,eij,j->e", vector, forms, vector)
+        def residuals(vector):
+            vector = vector / np.linalg.norm(vector)
+            return np.einsum("i,eij,j->e", vector, forms, vector)
 
-    result = scipy.optimize.least_squares(residuals, best / np.linalg.norm(best), xtol=1e-15, ftol=1e-15,
-                                          gtol=1e-15)
-    vector = result.x / np.linalg.norm(result.x)
-    if value(vector) > value(best):
-        vector = best / np.linalg.norm(best)
-    return value(vector), vector
+        for index in np.argsort(values, kind="stable")[:refined]:
+            guess = guesses[index] / np.linalg.norm(guesses[index])
+            result = scipy.optimize.least_squares(residuals, guess, xtol=1e-15, ftol=1e-15, gtol=1e-15)
+            candidates.append(np.array([result.x, guess]))
+    vectors = np.concatenate([block for block in candidates if len(block)])
+    values = _form_values(forms, vectors)
+    roots, root_values = _distinct(vectors, values)
+    return float(np.min(values)), roots[root_values <= tolerance]
 
 
 def second_order_test(manifold, point, basis, selection, rng, rtol=1e-6, scale=None,
-                      second_order_rtol=SECOND_ORDER_RTOL, length=0.1, step=0.01):
+                      second_order_rtol=SECOND_ORDER_RTOL, length=0.1, step=0.01, max_roots=8, max_order=5):
     """Classify an actuator singularity as degenerate, nondegenerate or undetermined.
 
     Parameters
     ----------
     manifold : ImplicitManifold
-        The C-space, with its constraint Hessian.
+        The C-space (or a slice of it), with its constraint Hessian.
     point : ndarray, shape=[point_size]
         p̄, a regular point of M at an actuator singularity.
     basis : ndarray, shape=[k, m]
-        Orthonormal basis T of T_pM.
+        Tangent basis T of T_p̄M from :func:`manifold.tangent_basis`.
     selection : ndarray, shape=[a, k]
-        Dπ (optionally weighted).
+        The actuator rows, dimensionless (:func:`classify.metrics.unit_rows`).
     rng : numpy.random.Generator
     rtol : float
         Relative cut for the rank of Dπ T, as in :func:`manifold.numerical_rank`.
     scale : float, optional
-        Reference scale of that cut; default σ₁(Dπ).
+        Reference scale of that cut; default σ₁(Dπ·diag(s)).
     second_order_rtol : float
         Relative cut for the forms (see :data:`SECOND_ORDER_RTOL`).
     length, step : float
-        Continuation length and step for the self-motion certificate.
+        Continuation length and step (dimensionless) for the self-motion certificate.
+    max_roots : int
+        How many distinct common roots are tried as seeds of the certificate.
+    max_order : int
+        Highest order of the higher-order test.
 
     Returns
     -------
     SecondOrderResult
+
+    Notes
+    -----
+    Every common root of the forms found, with both signs, seeds a
+    continuation of the fibre (step ``step``, then ``step/4``): degenerate as
+    soon as one reaches `length`. Where none does, the higher-order test
+    (:func:`classify.higher_order.higher_order_test`) decides whether the
+    fibre is obstructed at a higher order — p̄ isolated in its fibre,
+    nondegenerate (Park & Kim 1999 Fig. 10, the Eclipse, is isolated at order
+    3) — or the verdict stays undetermined, with the order reached.
     """
+    scales = manifold.ambient.tangent_scales
     block = selection @ basis
     left, _, right = np.linalg.svd(block, full_matrices=True)
-    scale = float(np.linalg.norm(selection, 2)) if scale is None else scale
+    scale = float(np.linalg.norm(selection * scales, 2)) if scale is None else scale
     rank = numerical_rank(block, rtol=rtol, scale=scale).rank
     kernel_coordinates = right[rank:].T                      # [m, κ]
     complement = left[:, rank:]                              # [a, c]
     kernel = basis @ kernel_coordinates                      # [k, κ]
     curvature = constraint_curvature(manifold, point, kernel)          # [k, κ, κ]
     forms = np.einsum("ae,ak,kij->eij", complement, selection, curvature)
-    curvature_scale = max(1.0, float(np.max(np.abs(constraint_curvature(manifold, point, basis)), initial=0.0)))
+    unit_curvature = constraint_curvature(manifold, point, basis) / scales[:, None, None]
+    curvature_scale = max(1.0, float(np.max(np.abs(unit_curvature), initial=0.0)))
     tolerance = second_order_rtol * curvature_scale * scale
-    smallest, vector = _smallest_common_value(forms, rng)
-    if smallest > tolerance:
+    smallest, roots = common_roots(forms, tolerance, rng)
+    if not len(roots):
         return SecondOrderResult("nondegenerate", forms, kernel, smallest, tolerance, None, None,
                                  "the forms Q_e have no common nonzero root on ker G")
-    root = kernel @ vector
     along = fibre(manifold, point, selection)
-    for sign in (1.0, -1.0):
-        certificate = continue_curve(along, point, sign * root, length=length, step=step)
-        if certificate.reached:
-            motion = SelfMotion(certificate.direction, certificate.distance,
-                                certificate.largest_residual, certificate.points)
-            return SecondOrderResult("degenerate", forms, kernel, smallest, tolerance, root, motion,
-                                     "the fibre of the actuators continues along a common root")
-    return SecondOrderResult("undetermined", forms, kernel, smallest, tolerance, root, None,
-                             "the forms Q_e vanish on a direction of ker G but no self-motion was found "
-                             "(higher order needed)")
+    for vector in roots[:max_roots]:
+        root = kernel @ vector
+        for step_size in (step, step / 4):
+            for sign in (1.0, -1.0):
+                certificate = continue_curve(along, point, sign * root, length=length, step=step_size)
+                if certificate.reached:
+                    motion = SelfMotion(certificate.direction * scales, certificate.distance,
+                                        certificate.largest_residual, certificate.points)
+                    return SecondOrderResult("degenerate", forms, kernel, smallest, tolerance, sign * root,
+                                             motion, "the fibre of the actuators continues along a common root")
+    higher = higher_order_test(manifold, point, basis, selection, kernel @ roots.T, max_order=max_order,
+                               scale=scale, rank_rtol=rtol, rng=rng)
+    if higher.verdict == "isolated":
+        return SecondOrderResult("nondegenerate", forms, kernel, smallest, tolerance, kernel @ roots[0], None,
+                                 f"the forms Q_e vanish on ker G along {len(roots)} direction(s), but p̄ is "
+                                 f"isolated in its fibre at order {higher.order} (obstruction "
+                                 f"{higher.obstruction:.3g}, cut {higher.tolerance:.1e})", higher)
+    return SecondOrderResult("undetermined", forms, kernel, smallest, tolerance, kernel @ roots[0], None,
+                             f"the forms Q_e vanish on {len(roots)} direction(s) of ker G, no self-motion was found "
+                             f"from any of them, and the higher-order test is {higher.verdict} up to order "
+                             f"{higher.order}: {higher.reason}", higher)

@@ -1,10 +1,16 @@
 """Global survey of a mechanism's C-space: the largest ranks reached on M.
 
-docs/design.rst: the expected ranks of G and J are ``min(m, the largest rank G
-reaches on M)`` and ``min(dim N, m, the largest rank J reaches on M)``. The
-largest ranks are estimated from points of M spread over several assembly
-branches (:func:`manifold.sample_manifold`); the estimate and the number of
-samples are reported.
+docs/design.rst, "The three kinds": the expected ranks are ``m − i`` for G,
+with i the number of idle freedoms, and ``min(dim N, m, the largest rank J
+reaches on M)`` for J. The largest ranks are estimated from points of M
+spread over several assembly branches (:func:`manifold.sample_manifold`),
+those of G, J and the stacked map at the samples where DΦ has its largest
+rank only (at a C-space singularity ker DΦ is larger than the tangent spaces
+of M); the estimate and the number of samples are reported.
+
+Every rank is decided in dimensionless form: DΦ·diag(s), the unit actuator
+rows (:func:`classify.metrics.unit_rows`) and H^½ Df over its own scale, on
+tangent bases orthonormal for the dimensionless inner product.
 """
 
 from __future__ import annotations
@@ -13,11 +19,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from manifold import DEFAULT_RTOL, largest_rank, numerical_rank, sample_manifold, tangent_basis
+from manifold import DEFAULT_RTOL, numerical_rank, sample_manifold, tangent_basis
 
-from .metrics import metric_root
+from .metrics import largest_singular_value, metric_root, unit_rows
 
-__all__ = ["Survey", "survey"]
+__all__ = ["Survey", "survey", "decision_blocks"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -36,9 +42,9 @@ class Survey:
         Largest rank of J (None without end-effector).
     joint_rank : int or None
         Largest rank of the stacked map (E^½Dπ T; H^½Df T), each block scaled
-        by its own largest singular value (None without end-effector). Where
-        both largest ranks are reached, ``joint_rank − actuator_rank`` is the
-        number of locked-actuator freedoms that move the end-effector.
+        by its own largest singular value (None without end-effector).
+        ``m − joint_rank`` freedoms move neither an actuator nor the
+        end-effector: the idle freedoms.
     """
 
     samples: int
@@ -48,21 +54,61 @@ class Survey:
     joint_rank: object = None
 
     @property
-    def moving_idle_freedoms(self):
-        """How many of the idle freedoms move the end-effector (0 without end-effector).
+    def freedom_rank(self):
+        """The largest rank of the map whose kernel is the idle freedoms: the stacked map, or G without
+        end-effector."""
+        return self.actuator_rank if self.joint_rank is None else self.joint_rank
 
-        An idle freedom that moves the end-effector means that, with the
-        actuators locked, the end-effector is not fixed anywhere on M: an
-        architecture singularity (e.g. a Gough–Stewart platform with similar
-        hexagons, Gosselin & Angeles 1990 eq. 87), or
-        a motion the task ignores (the spin of an axisymmetric tool).
+    @property
+    def moving_idle_freedoms(self):
+        """How many locked-actuator freedoms move the end-effector everywhere on M (0 without one).
+
+        ``joint_rank − actuator_rank``. Such a freedom is not idle: with the
+        actuators locked the end-effector is not fixed anywhere on M, the
+        design is architecturally singular (e.g. a Gough–Stewart platform
+        with similar hexagons, Gosselin & Angeles 1990 eq. 87, or a 5-SPU
+        whose pose output sees the tool's spin).
         """
         return 0 if self.joint_rank is None else max(0, self.joint_rank - self.actuator_rank)
+
+    def idle_freedoms(self, dof):
+        """i = m − the largest rank of the stacked map (of G without end-effector), for m = `dof`."""
+        return max(0, dof - self.freedom_rank)
 
     def to_dict(self):
         return {"samples": self.samples, "constraint_rank": self.constraint_rank,
                 "actuator_rank": self.actuator_rank, "end_effector_rank": self.end_effector_rank,
                 "joint_rank": self.joint_rank}
+
+
+def decision_blocks(model, point, basis):
+    """The dimensionless maps whose ranks are decided at a point, restricted to a tangent basis.
+
+    Parameters
+    ----------
+    model : Model
+    point : ndarray, shape=[point_size]
+    basis : ndarray, shape=[k, m]
+        Tangent basis from :func:`manifold.tangent_basis`.
+
+    Returns
+    -------
+    actuator : ndarray, shape=[a, m]
+        ``unit_rows(E^½ Dπ) T`` (reference scale 1 per row).
+    actuator_scale : float
+        σ₁ of ``unit_rows(E^½ Dπ)·diag(s)``.
+    end_effector : ndarray, shape=[n, m] or None
+        ``H^½ Df T``.
+    end_effector_scale : float or None
+        σ₁ of ``H^½ Df·diag(s)``.
+    """
+    scales = model.manifold.ambient.tangent_scales
+    actuators = unit_rows(model.actuators, scales)
+    actuator_scale = largest_singular_value(actuators * scales)
+    if not model.end_effector_dimension:
+        return actuators @ basis, actuator_scale, None, None
+    jacobian = metric_root(model.end_effector_metric) @ model.end_effector_jacobian(point)
+    return actuators @ basis, actuator_scale, jacobian @ basis, largest_singular_value(jacobian * scales)
 
 
 def survey(model, rng, starts=None, random_count=24, walk_count=24, rtol=DEFAULT_RTOL):
@@ -84,22 +130,19 @@ def survey(model, rng, starts=None, random_count=24, walk_count=24, rtol=DEFAULT
     manifold = model.manifold
     starts = model.starts if starts is None else np.atleast_2d(starts)
     points = sample_manifold(manifold, rng, starts, random_count=random_count, walk_count=walk_count)
-    bases = [tangent_basis(manifold, point, rtol=rtol)[0] for point in points]
-    actuators = model.actuators
-    actuator_scale = float(np.linalg.norm(actuators, 2)) if actuators.size else 0.0
-    constraint_rank = largest_rank(manifold.constraint_jacobian, points, rtol=rtol)
-    actuator_rank = largest_rank(lambda index: actuators @ bases[index], range(len(points)), rtol=rtol,
-                                 scale=actuator_scale)
-    end_effector_rank = joint_rank = None
-    if model.end_effector_dimension > 0:
-        root = metric_root(model.end_effector_metric)
-        actuator_unit = actuators / actuator_scale if actuator_scale else actuators
-        end_effector_rank = joint_rank = 0
-        for point, basis in zip(points, bases):
-            jacobian = root @ model.end_effector_jacobian(point)
-            scale = float(np.linalg.norm(jacobian, 2))
-            end_effector_rank = max(end_effector_rank,
-                                    numerical_rank(jacobian @ basis, rtol=rtol, scale=scale).rank)
-            stacked = np.vstack([actuator_unit @ basis, jacobian @ basis / max(scale, 1e-300)])
-            joint_rank = max(joint_rank, numerical_rank(stacked, rtol=rtol, scale=1.0).rank)
+    bases = [tangent_basis(manifold, point, rtol=rtol) for point in points]
+    constraint_rank = max(decision.rank for _, decision in bases)
+    actuator_rank = 0
+    end_effector_rank = joint_rank = None if not model.end_effector_dimension else 0
+    for point, (basis, decision) in zip(points, bases):
+        if decision.rank < constraint_rank:
+            continue  # a C-space singularity: ker DΦ is larger than the tangent spaces of M
+        actuator, actuator_scale, end_effector, end_effector_scale = decision_blocks(model, point, basis)
+        actuator_rank = max(actuator_rank, numerical_rank(actuator, rtol=rtol, scale=actuator_scale).rank)
+        if end_effector is None:
+            continue
+        end_effector_rank = max(end_effector_rank,
+                                numerical_rank(end_effector, rtol=rtol, scale=end_effector_scale).rank)
+        stacked = np.vstack([actuator / max(actuator_scale, 1e-300), end_effector / max(end_effector_scale, 1e-300)])
+        joint_rank = max(joint_rank, numerical_rank(stacked, rtol=rtol, scale=1.0).rank)
     return Survey(len(points), constraint_rank, actuator_rank, end_effector_rank, joint_rank)

@@ -14,6 +14,7 @@ from .implicit import (
     normal_basis,
     project,
     residual,
+    scaled_jacobian,
     tangent_basis,
 )
 from .rank import DEFAULT_ATOL, DEFAULT_RTOL, RankDecision, numerical_rank
@@ -23,7 +24,7 @@ __all__ = [
     "FACTORS", "AmbientSpace", "rotation_exp", "rotation_log",
     "CurveCertificate", "continue_curve",
     "ContinuationError", "ManifoldError", "ProjectionError",
-    "ImplicitManifold", "constraint_curvature", "normal_basis", "project", "residual", "tangent_basis",
+    "ImplicitManifold", "constraint_curvature", "normal_basis", "project", "residual", "scaled_jacobian", "tangent_basis",
     "DEFAULT_ATOL", "DEFAULT_RTOL", "RankDecision", "numerical_rank",
     "LocalRank", "largest_rank", "local_rank", "sample_manifold",
 ]

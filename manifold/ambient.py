@@ -81,8 +81,10 @@ class AmbientSpace:
         Each ``"R"``, ``"S1"`` or ``"SO3"``.
     scales : tuple of float, optional
         A typical size of each factor's coordinates (1 for angles, a
-        characteristic length for translations). Used only to size random
-        samples and steps, never in a rank decision. Default all 1.
+        characteristic length for translations). They size random samples
+        and steps, and make tangent coordinates dimensionless (u = v / s) for
+        every rank decision and minimum-norm step (see :mod:`manifold.implicit`),
+        so that no decision depends on the unit of length. Default all 1.
 
     Examples
     --------

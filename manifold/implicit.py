@@ -4,6 +4,14 @@ Derivatives of Φ are taken in the recentred chart of the ambient space
 (:meth:`AmbientSpace.retract`)::
 
     Φ(p ⊕ v) = Φ(p) + DΦ(p) v + ½ D²Φ(p)(v, v) + O(|v|³)
+
+Units. A tangent vector v carries joint rates of mixed units (radians and
+lengths). Every rank decision, minimum-norm step and orthonormal basis here
+uses the *dimensionless* coordinates ``u = v / s`` with s the factors' scales
+(:attr:`AmbientSpace.tangent_scales`: 1 for angles, a characteristic length
+for translations), i.e. the inner product ``⟨v, w⟩_s = Σᵢ vᵢ wᵢ / sᵢ²``. A
+change of the length unit multiplies the translations and their scales by
+the same factor, so no decision depends on it.
 """
 
 from __future__ import annotations
@@ -20,6 +28,7 @@ from .rank import DEFAULT_ATOL, DEFAULT_RTOL, numerical_rank
 __all__ = [
     "ImplicitManifold",
     "residual",
+    "scaled_jacobian",
     "project",
     "tangent_basis",
     "normal_basis",
@@ -57,10 +66,26 @@ def residual(manifold, point):
     return np.linalg.norm(manifold.constraint(point), axis=-1)
 
 
+def scaled_jacobian(manifold, point):
+    """DΦ(point)·diag(s): the constraint Jacobian in dimensionless tangent coordinates u = v / s.
+
+    Parameters
+    ----------
+    manifold : ImplicitManifold
+    point : array_like, shape=[..., point_size]
+
+    Returns
+    -------
+    jacobian : ndarray, shape=[..., c, k]
+    """
+    return np.asarray(manifold.constraint_jacobian(point), dtype=float) * manifold.ambient.tangent_scales
+
+
 def project(manifold, point, tolerance=1e-12, max_iterations=60, max_step=None):
     """Gauss-Newton projection of one point onto M.
 
-    Iterates ``p ← p ⊕ (−DΦ(p)⁺ Φ(p))`` with the minimum-norm step.
+    Iterates ``p ← p ⊕ (−s·(DΦ(p)·s)⁺ Φ(p))``: the step of least
+    dimensionless length (see the module's note on units).
 
     Parameters
     ----------
@@ -84,12 +109,12 @@ def project(manifold, point, tolerance=1e-12, max_iterations=60, max_step=None):
     """
     point = np.array(point, dtype=float)
     ambient = manifold.ambient
+    scales = ambient.tangent_scales
     value = manifold.constraint(point)
     for _ in range(max_iterations):
         if np.linalg.norm(value) <= tolerance:
             break
-        jacobian = manifold.constraint_jacobian(point)
-        step = -np.linalg.lstsq(jacobian, value, rcond=1e-12)[0]
+        step = -scales * np.linalg.lstsq(scaled_jacobian(manifold, point), value, rcond=1e-12)[0]
         norm = np.linalg.norm(step)
         if max_step is not None and norm > max_step:
             step *= max_step / norm
@@ -107,10 +132,14 @@ def project(manifold, point, tolerance=1e-12, max_iterations=60, max_step=None):
 
 
 def tangent_basis(manifold, point, rtol=DEFAULT_RTOL, atol=DEFAULT_ATOL):
-    """Orthonormal basis of ker DΦ(point) and the rank decision behind it.
+    """Basis of ker DΦ(point), orthonormal for ⟨·,·⟩_s, and the rank decision behind it.
 
     At a regular point this is a basis of the tangent space T_pM; at a
-    singular point of M it spans the (larger) kernel of DΦ.
+    singular point of M it spans the (larger) kernel of DΦ. The rank is that
+    of the dimensionless Jacobian DΦ·diag(s) (:func:`scaled_jacobian`), and
+    the columns are joint-rate vectors ``s·u`` with u orthonormal: the
+    columns are orthonormal for the dimensionless inner product
+    ``⟨v, w⟩_s = Σᵢ vᵢ wᵢ / sᵢ²`` (Euclidean where every scale is 1).
 
     Parameters
     ----------
@@ -121,28 +150,30 @@ def tangent_basis(manifold, point, rtol=DEFAULT_RTOL, atol=DEFAULT_ATOL):
     -------
     basis : ndarray, shape=[k, k - rank]
     decision : RankDecision
-        The rank of DΦ(point).
+        The rank of DΦ(point)·diag(s).
     """
-    jacobian = np.asarray(manifold.constraint_jacobian(point), dtype=float)
+    jacobian = scaled_jacobian(manifold, point)
     decision = numerical_rank(jacobian, rtol=rtol, atol=atol)
     _, _, vh = np.linalg.svd(jacobian, full_matrices=True)
-    return vh[decision.rank:].T.copy(), decision
+    return manifold.ambient.tangent_scales[:, None] * vh[decision.rank:].T, decision
 
 
 def normal_basis(manifold, point, rtol=DEFAULT_RTOL, atol=DEFAULT_ATOL):
-    """Orthonormal basis of the row space of DΦ(point) (normal space), shape=[k, rank]."""
-    jacobian = np.asarray(manifold.constraint_jacobian(point), dtype=float)
+    """Orthonormal basis of the row space of DΦ(point)·diag(s) (the normal space in dimensionless
+    coordinates u = v / s), shape=[k, rank]."""
+    jacobian = scaled_jacobian(manifold, point)
     decision = numerical_rank(jacobian, rtol=rtol, atol=atol)
     _, _, vh = np.linalg.svd(jacobian, full_matrices=True)
     return vh[: decision.rank].T.copy()
 
 
 def constraint_curvature(manifold, point, basis, rtol=DEFAULT_RTOL):
-    """Ambient accelerations of curves on M: ``x''(u, w) = −DΦ⁺ D²Φ(Bu, Bw)``.
+    """Ambient accelerations of curves on M: ``x''(u, w) = −s·(DΦ·s)⁺ D²Φ(Bu, Bw)``.
 
     For a curve ``p ⊕ x(t)`` on M with ``x'(0) = B u``, the second-order
     term of Φ(p ⊕ x(t)) = 0 gives ``DΦ x'' + D²Φ(Bu, Bu) = 0``; this returns
-    the minimum-norm solution of that equation for every pair of basis vectors.
+    the solution of that equation of least dimensionless norm ``|x''/s|`` for
+    every pair of basis vectors.
 
     Parameters
     ----------
@@ -157,8 +188,8 @@ def constraint_curvature(manifold, point, basis, rtol=DEFAULT_RTOL):
         ``acceleration[:, i, j] = x''(bᵢ, bⱼ)``; symmetric in ``i, j``.
     """
     basis = np.asarray(basis, dtype=float)
-    jacobian = manifold.constraint_jacobian(point)
+    scales = manifold.ambient.tangent_scales
     hessian = manifold.constraint_hessian(point)
     second = np.einsum("cab,ai,bj->cij", hessian, basis, basis)
-    pseudo_inverse = np.linalg.pinv(jacobian, rcond=rtol)
-    return -np.einsum("kc,cij->kij", pseudo_inverse, second)
+    pseudo_inverse = np.linalg.pinv(scaled_jacobian(manifold, point), rcond=rtol)
+    return -scales[:, None, None] * np.einsum("kc,cij->kij", pseudo_inverse, second)

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .errors import ProjectionError
-from .implicit import project
+from .implicit import project, scaled_jacobian
 from .rank import DEFAULT_ATOL, DEFAULT_RTOL, numerical_rank
 
 __all__ = ["LocalRank", "local_rank", "sample_manifold", "largest_rank"]
@@ -58,7 +58,7 @@ def local_rank(manifold, point, rng, count=6, radius=1e-3, rtol=DEFAULT_RTOL, at
     """
     ambient = manifold.ambient
     scales = ambient.tangent_scales
-    rank = numerical_rank(manifold.constraint_jacobian(point), rtol=rtol, atol=atol).rank
+    rank = numerical_rank(scaled_jacobian(manifold, point), rtol=rtol, atol=atol).rank
     neighbours = []
     attempts = 0
     while len(neighbours) < count and attempts < 4 * count:
@@ -73,7 +73,7 @@ def local_rank(manifold, point, rng, count=6, radius=1e-3, rtol=DEFAULT_RTOL, at
         if np.linalg.norm(ambient.inverse_retract(point, neighbour) / scales) > 20 * radius:
             continue
         neighbours.append(neighbour)
-        rank = max(rank, numerical_rank(manifold.constraint_jacobian(neighbour), rtol=rtol, atol=atol).rank)
+        rank = max(rank, numerical_rank(scaled_jacobian(manifold, neighbour), rtol=rtol, atol=atol).rank)
     return LocalRank(rank, ambient.dim - rank, np.array(neighbours).reshape(-1, ambient.point_size))
 
 

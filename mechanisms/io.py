@@ -36,8 +36,23 @@ YAML is read in the YAML 1.2 core schema, not PyYAML's YAML 1.1 default:
 only ``true``/``false`` are booleans (``yes``, ``no``, ``on``, ``off`` are
 strings, so ``actuated: yes`` is refused rather than read as true), ``1e-3``
 is a number, ``1:30`` is a string and there are no implicit timestamps.
-Duplicate keys are an error in both formats. The loader is a subclass of
-``yaml.SafeLoader`` and nothing in a file is ever evaluated.
+Duplicate keys are an error in both formats. The loader builds plain data
+only (the constructors of ``yaml.SafeLoader``) and nothing in a file is ever
+evaluated.
+
+Limits (a mechanism file is small, plain data):
+
+* only a regular file is read (not a FIFO, a device or a directory), of at
+  most :data:`FILE_SIZE_LIMIT` bytes (1 MiB), in UTF-8;
+* YAML anchors, aliases and merge keys (``&a``, ``*a``, ``<<``) are refused,
+  and so is every explicit tag but the plain ones (``!!str``, ``!!int``,
+  ``!!float``, ``!!bool``, ``!!null``, ``!!seq``, ``!!map``): in
+  particular ``!!python/...``;
+* documents nest at most :data:`DEPTH_LIMIT` levels, and integers have at
+  most :data:`DIGITS_LIMIT` digits;
+* names (of the mechanism, joints, links, configurations) are valid text of
+  at most 256 characters, coordinates at most 1e12 in absolute value
+  (:mod:`mechanisms.joints`); displacements too.
 
 Every problem raises :class:`~mechanisms.errors.MechanismError` with a
 one-line message that starts with the file (or source) and names the joint
@@ -55,13 +70,21 @@ __all__ = [
     "load",
     "loads",
     "save",
+    "FILE_SIZE_LIMIT",
+    "DEPTH_LIMIT",
+    "DIGITS_LIMIT",
+    "read_text_file",
+    "write_text_file",
+    "parse_json",
 ]
 
+import errno
 import json
 import math
 import numbers
 import os
 import re
+import stat
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -71,8 +94,15 @@ import numpy as np
 import yaml
 
 from .errors import MechanismError
-from .joints import EndEffector, Joint, is_number
+from .joints import COORDINATE_LIMIT, EndEffector, Joint, check_name, check_text, is_number
 from .mechanism import Mechanism
+
+#: largest file read, in bytes (1 MiB)
+FILE_SIZE_LIMIT = 2 ** 20
+#: deepest nesting of lists and mappings in a document (a mechanism file needs 5)
+DEPTH_LIMIT = 20
+#: most digits of an integer in a document
+DIGITS_LIMIT = 400
 
 _TOP_LEVEL_FIELDS = ("name", "space", "ground", "joints", "end_effector",
                      "description", "configurations")
@@ -207,15 +237,116 @@ def read(path):
     """
     path = _path(path)
     file_format = _format(path)
+    return loads(read_text_file(path), file_format, source=str(path))
+
+
+def read_text_file(path, limit=FILE_SIZE_LIMIT):
+    """The UTF-8 text of a regular file of at most `limit` bytes.
+
+    The file is opened without blocking and checked before it is read, so a
+    FIFO, a device (``/dev/zero``) or a directory is refused at once instead
+    of hanging or filling the memory.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+    limit : int
+        Largest size in bytes.
+
+    Returns
+    -------
+    str
+        The text, without a byte-order mark.
+
+    Raises
+    ------
+    MechanismError
+        One line starting with the path: cannot be opened, not a regular
+        file, too large, or not UTF-8.
+    """
+    path = _path(path)
     try:
-        text = path.read_text(encoding="utf-8-sig")
+        descriptor = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
+    except (OSError, ValueError) as error:
+        raise MechanismError(_one_line(f"{path}: cannot read the file: {_os_reason(error)}")) from None
+    with os.fdopen(descriptor, "rb") as handle:
+        mode, size = _file_status(handle.fileno())
+        if not stat.S_ISREG(mode):
+            raise MechanismError(_one_line(f"{path}: cannot read the file: it is {_file_kind(mode)}, "
+                                           f"not a regular file"))
+        if size > limit:
+            raise MechanismError(_one_line(f"{path}: the file is too large: {size} bytes "
+                                           f"(the limit is {limit} bytes)"))
+        try:
+            data = handle.read(limit + 1)
+        except OSError as error:
+            raise MechanismError(_one_line(f"{path}: cannot read the file: {_os_reason(error)}")) from None
+    if len(data) > limit:
+        raise MechanismError(_one_line(f"{path}: the file is too large: more than {limit} bytes "
+                                       f"(the limit)"))
+    try:
+        return data.decode("utf-8-sig")
     except UnicodeDecodeError as error:
-        raise MechanismError(f"{path}: cannot read the file: not UTF-8 text "
-                             f"({error.reason} at byte {error.start})") from None
+        raise MechanismError(_one_line(f"{path}: cannot read the file: not UTF-8 text "
+                                       f"({error.reason} at byte {error.start})")) from None
+
+
+def write_text_file(path, text):
+    """Write UTF-8 text to a file and report any failure, including one on the final flush.
+
+    A FIFO nobody reads is refused instead of blocking; a full device
+    (``/dev/full``) or disk fails when the text is flushed, and says so.
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+    text : str
+
+    Raises
+    ------
+    MechanismError
+        ``{path}: cannot write the file: {reason}`` (missing folder, a
+        folder, no space left, no permission, ...).
+    """
+    path = _path(path)
+    flags = os.O_WRONLY | os.O_CREAT | os.O_TRUNC | getattr(os, "O_NONBLOCK", 0)
+    try:
+        descriptor = os.open(path, flags, 0o666)
+    except (OSError, ValueError) as error:
+        reason = ("it is a FIFO that no process is reading" if getattr(error, "errno", None) == errno.ENXIO
+                  else _os_reason(error))
+        raise MechanismError(_one_line(f"{path}: cannot write the file: {reason}")) from None
+    try:
+        if hasattr(os, "set_blocking"):
+            os.set_blocking(descriptor, True)
+        with os.fdopen(descriptor, "w", encoding="utf-8") as handle:
+            descriptor = None
+            handle.write(text)
     except OSError as error:
-        raise MechanismError(_one_line(f"{path}: cannot read the file: "
-                                       f"{error.strerror or error}")) from None
-    return loads(text, file_format, source=str(path))
+        raise MechanismError(_one_line(f"{path}: cannot write the file: {_os_reason(error)}")) from None
+    finally:
+        if descriptor is not None:
+            os.close(descriptor)
+
+
+def _file_status(descriptor):
+    status = os.fstat(descriptor)
+    return status.st_mode, status.st_size
+
+
+def _file_kind(mode):
+    """What a non-regular file is, for a message ("a directory", "a FIFO (named pipe)", ...)."""
+    kinds = ((stat.S_ISDIR, "a directory"), (stat.S_ISFIFO, "a FIFO (named pipe)"),
+             (stat.S_ISCHR, "a character device"), (stat.S_ISBLK, "a block device"),
+             (stat.S_ISSOCK, "a socket"))
+    return next((kind for test, kind in kinds if test(mode)), "a special file")
+
+
+def _os_reason(error):
+    """The reason of an OSError (or the ValueError of a path with a NUL byte), without the path."""
+    if isinstance(error, OSError) and error.strerror:
+        return error.strerror
+    return _reason(error)
 
 
 def load(path):
@@ -308,11 +439,7 @@ def save(mechanism, path, configurations=None, description=None):
     else:
         text = yaml.dump(data, Dumper=_Dumper, sort_keys=False, default_flow_style=None,
                          allow_unicode=True)
-    try:
-        path.write_text(text, encoding="utf-8")
-    except OSError as error:
-        raise MechanismError(_one_line(f"{path}: cannot write the file: "
-                                       f"{error.strerror or error}")) from None
+    write_text_file(path, text)
 
 
 # ---------------------------------------------------------------- from dicts
@@ -347,6 +474,8 @@ def _parse_document(data):
     description = data.get("description")
     if description is not None and not isinstance(description, str):
         raise MechanismError(f"field 'description': expected a string, got {_describe(description)}")
+    if description is not None:
+        check_text(description, "field 'description'")
     configurations = _configurations_from_dict(data.get("configurations"), mechanism)
     return MechanismDocument(mechanism, configurations, description)
 
@@ -369,6 +498,8 @@ def _joint_from_dict(data, index):
             or not all(isinstance(link, str) and link for link in links)):
         raise MechanismError(f"{where}: field 'links': expected two link names [first, second], "
                              f"got {_describe(links)}")
+    for position, link in enumerate(links):
+        check_name(link, f"{where}: field 'links': item {position}")
     fields = {}
     for vector in ("point", "axis"):
         if vector in data:
@@ -417,6 +548,7 @@ def _configurations_from_dict(data, mechanism):
         if not isinstance(name, str) or not name:
             raise MechanismError(f"field 'configurations': expected configuration names to be "
                                  f"non-empty strings, got {_describe(name)}")
+        check_name(name, f"field 'configurations': name {_describe(name)}")
         where = f"configurations[{name!r}]"
         if not isinstance(displacements, Mapping):
             raise MechanismError(f"{where}: expected a mapping from joint names to displacements, "
@@ -438,14 +570,22 @@ def check_displacement(value, joint, where):
         if _is_sequence(value):
             raise MechanismError(f"{where}: expected a number ({meaning} of the {joint.type} "
                                  f"joint), got {_describe(value)}")
-        return _number(value, where)
+        return _in_range(_number(value, where), where)
     if not _is_sequence(value):
         raise MechanismError(f"{where}: expected a list of {size} numbers ({meaning} of the "
                              f"{joint.type} joint), got {_describe(value)}")
     if len(value) != size:
         raise MechanismError(f"{where}: expected {size} numbers ({meaning} of the {joint.type} "
                              f"joint), got {len(value)}")
-    return list(_numbers(value, where))
+    return [_in_range(number, f"{where}: item {position}")
+            for position, number in enumerate(_numbers(value, where))]
+
+
+def _in_range(number, where):
+    if abs(number) > COORDINATE_LIMIT:
+        raise MechanismError(f"{where}: {number:g} is out of range (displacements are at most "
+                             f"{COORDINATE_LIMIT:g} in absolute value)")
+    return number
 
 
 # ------------------------------------------------------------------ to dicts
@@ -483,7 +623,7 @@ def _check_keys(data, allowed, where):
 def _string(value, where):
     if not isinstance(value, str) or not value:
         raise MechanismError(f"{where}: expected a non-empty string, got {_describe(value)}")
-    return value
+    return check_name(value, where)
 
 
 def _is_sequence(value):

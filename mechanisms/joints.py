@@ -31,7 +31,9 @@ from .errors import MechanismError
 
 __all__ = [
     "SPACES", "JOINT_TYPES", "OUTPUTS", "Joint", "EndEffector",
-    "joint_factors", "joint_coordinate_names", "check_joint", "check_end_effector",
+    "COORDINATE_LIMIT", "NAME_LENGTH_LIMIT", "WEIGHT_RANGE",
+    "joint_factors", "joint_coordinate_names", "check_joint", "check_end_effector", "check_name",
+    "check_text",
 ]
 
 SPACES = ("planar", "spherical", "spatial")
@@ -47,11 +49,69 @@ JOINT_TYPES = {
 _FACTORS = {"R": ("S1",), "P": ("R",), "S": ("SO3",), "U": ("S1", "S1"), "C": ("S1", "R")}
 _SUFFIXES = {"R": ("",), "P": ("",), "S": ("[x]", "[y]", "[z]"), "U": ("[1]", "[2]"),
              "C": ("[angle]", "[slide]")}
+#: largest |coordinate| of a point or an axis: beyond it squares of distances lose all precision
+#: (and overflow near 1e154); a mechanism drawn in micrometres or in kilometres stays far inside
+COORDINATE_LIMIT = 1e12
+#: longest name (of the mechanism, a joint, a link, a space, a type) in characters
+NAME_LENGTH_LIMIT = 256
+#: smallest and largest actuator weight
+WEIGHT_RANGE = (1e-12, 1e12)
 
 
 def is_number(value):
     """True for a real number that is not a boolean (``True`` is an int in Python)."""
     return isinstance(value, numbers.Real) and not isinstance(value, (bool, np.bool_))
+
+
+def check_text(value, where):
+    """Refuse a string that is not valid Unicode text (a lone surrogate cannot be written as UTF-8).
+
+    Parameters
+    ----------
+    value : str
+    where : str
+        The field, for the message.
+
+    Raises
+    ------
+    MechanismError
+        Naming the field and the position of the first lone surrogate.
+    """
+    try:
+        value.encode("utf-8")
+    except UnicodeEncodeError as error:
+        code = ord(value[error.start])
+        raise MechanismError(f"{where}: not valid text: lone surrogate U+{code:04X} at position "
+                             f"{error.start}") from None
+
+
+def check_name(value, where):
+    """A name: a non-empty string of valid text, at most :data:`NAME_LENGTH_LIMIT` characters.
+
+    Parameters
+    ----------
+    value : object
+    where : str
+        The field, for the message.
+
+    Returns
+    -------
+    str
+        `value`, unchanged.
+
+    Raises
+    ------
+    MechanismError
+        Naming the field.
+    """
+    if not isinstance(value, str) or not value:
+        shown = repr(value) if len(repr(value)) <= 40 else type(value).__name__
+        raise MechanismError(f"{where}: expected a non-empty string, got {shown}")
+    if len(value) > NAME_LENGTH_LIMIT:
+        raise MechanismError(f"{where}: expected a name of at most {NAME_LENGTH_LIMIT} characters, "
+                             f"got {len(value)} ({value[:20]!r}...)")
+    check_text(value, where)
+    return value
 
 
 def _vector(values, where):
@@ -158,6 +218,10 @@ def _check_vector(values, size, where):
         raise MechanismError(f"{where}: expected {size} numbers, got {len(values)}")
     if not all(math.isfinite(value) for value in values):
         raise MechanismError(f"{where}: expected finite numbers, got {list(values)}")
+    for index, value in enumerate(values):
+        if abs(value) > COORDINATE_LIMIT:
+            raise MechanismError(f"{where}: item {index}: {value:g} is out of range "
+                                 f"(coordinates are at most {COORDINATE_LIMIT:g} in absolute value)")
 
 
 def _check_direction(values, size, where):
@@ -168,9 +232,10 @@ def _check_direction(values, size, where):
 
 def check_joint(joint, space):
     """Validate one joint for a space; raise :class:`MechanismError` naming the joint and field."""
-    where = f"joint {joint.name!r}"
     if not isinstance(joint.name, str) or not joint.name:
         raise MechanismError(f"joint name: expected a non-empty string, got {joint.name!r}")
+    check_name(joint.name, "joint name")
+    where = f"joint {joint.name!r}"
     if joint.type not in JOINT_TYPES:
         raise MechanismError(f"{where}: field 'type': unknown joint type {joint.type!r} "
                              f"(expected one of {', '.join(JOINT_TYPES)})")
@@ -181,6 +246,8 @@ def check_joint(joint, space):
                              f"{space} mechanism (only {allowed})")
     if len(joint.links) != 2 or not all(isinstance(link, str) and link for link in joint.links):
         raise MechanismError(f"{where}: field 'links': expected two link names, got {list(joint.links)}")
+    for index, link in enumerate(joint.links):
+        check_name(link, f"{where}: field 'links': item {index}")
     if joint.links[0] == joint.links[1]:
         raise MechanismError(f"{where}: field 'links': a joint cannot join link "
                              f"{joint.links[0]!r} to itself")
@@ -188,6 +255,9 @@ def check_joint(joint, space):
         raise MechanismError(f"{where}: field 'actuated': expected true or false, got {joint.actuated!r}")
     if not math.isfinite(joint.weight) or joint.weight <= 0:
         raise MechanismError(f"{where}: field 'weight': expected a positive finite number, got {joint.weight!r}")
+    if not WEIGHT_RANGE[0] <= joint.weight <= WEIGHT_RANGE[1]:
+        raise MechanismError(f"{where}: field 'weight': expected a weight between {WEIGHT_RANGE[0]:g} and "
+                             f"{WEIGHT_RANGE[1]:g}, got {joint.weight:g}")
     if not joint.actuated and joint.weight != 1.0:
         raise MechanismError(f"{where}: field 'weight': a weight is only used on an actuated joint")
     if joint.actuated and joint.type == "S":
@@ -213,6 +283,7 @@ def check_joint(joint, space):
 def check_end_effector(end_effector, space, links):
     """Validate an end-effector; raise :class:`MechanismError` naming the field."""
     where = "end_effector"
+    check_name(end_effector.link, f"{where}: field 'link'")
     if end_effector.link not in links:
         raise MechanismError(f"{where}: field 'link': unknown link {end_effector.link!r}")
     if end_effector.output not in OUTPUTS:

@@ -14,7 +14,7 @@ Derivatives in the recentred chart are products with twists *inserted*::
                  = ½ A₁ ⋯ A_i (X̂_a X̂_b + X̂_b X̂_a) A_{i+1} ⋯ Aₙ   (same element)
 
 At a closed configuration (T = I) the first column is the joint twist carried
-to the current configuration, ``Ad_{A₁⋯A_i} X_a`` (Park & Kim, `001_…`, eq. 8
+to the current configuration, ``Ad_{A₁⋯A_i} X_a`` (Park & Kim, 1999, eq. 8
 is the planar five-bar case), and on tangent vectors the second-order term
 equals the Lie-bracket form ``½ Σ_{i<j} [Z_i, Z_j]`` of the carried twists.
 The loop rows ``L(T)`` (:mod:`._groups`) are linear in T, so ``DΦ = L(DT)``

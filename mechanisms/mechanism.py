@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import difflib
+import re
 from dataclasses import dataclass, field
 from functools import cached_property
 from typing import Optional
@@ -9,13 +11,64 @@ from typing import Optional
 import networkx as nx
 import numpy as np
 
+from ._groups import LOOP_ROWS
 from .errors import MechanismError
 from .joints import (
-    SPACES, EndEffector, Joint, check_end_effector, check_joint,
+    SPACES, EndEffector, Joint, check_end_effector, check_joint, check_name,
     joint_coordinate_names, joint_factors,
 )
 
-__all__ = ["Mechanism"]
+__all__ = ["Mechanism", "DENSE_MEMORY_LIMIT", "SMALLEST_LENGTH", "dense_memory_estimate"]
+
+#: largest memory (bytes) the dense algorithms may need, as estimated by :func:`dense_memory_estimate`
+DENSE_MEMORY_LIMIT = 2 ** 30
+#: k×k float arrays the dense algorithms hold besides the Hessians (metrics, bases, SVD work)
+_DENSE_WORK_ARRAYS = 16
+#: rows of the end-effector Hessian counted by the estimate (the largest output, a pose in SE(3))
+_END_EFFECTOR_ROWS = 6
+#: smallest distance between two points of a link that the rank tolerances resolve
+SMALLEST_LENGTH = 1e-9
+#: distances below this fraction of the coordinates are rounding noise (coincident points)
+_ROUNDING = 1e-12
+#: how many link names a message lists
+_LISTED_LINKS = 12
+
+
+def dense_memory_estimate(coordinates, rows):
+    """Bytes the dense algorithms need for k joint coordinates and c constraint rows.
+
+    Parameters
+    ----------
+    coordinates : int
+        k, the dimension of the ambient space.
+    rows : int
+        c, the number of rows of the constraint map Φ.
+
+    Returns
+    -------
+    int
+
+    Notes
+    -----
+    The constraint Hessian D²Φ has c·k² entries, the end-effector Hessian
+    up to 6·k², and the metrics, tangent bases and singular value
+    decompositions a few more k×k arrays; each entry is a float64 (8 bytes):
+    ``8·k²·(c + 6 + 16)``.
+
+    Examples
+    --------
+    >>> dense_memory_estimate(400, 300)  # a ladder of 100 planar four-bar loops
+    412160000
+    """
+    return 8 * coordinates ** 2 * (rows + _END_EFFECTOR_ROWS + _DENSE_WORK_ARRAYS)
+
+
+def _binary_size(size):
+    """A byte count in the largest binary unit that keeps it at least 1, e.g. ``9.3 GiB``."""
+    for unit in ("B", "KiB", "MiB", "GiB", "TiB"):
+        if size < 1024 or unit == "TiB":
+            return f"{size:.3g} {unit}" if unit != "B" else f"{size} B"
+        size /= 1024
 
 
 @dataclass(frozen=True, eq=False)
@@ -59,11 +112,13 @@ class Mechanism:
     def __post_init__(self):
         if not isinstance(self.name, str) or not self.name:
             raise MechanismError(f"field 'name': expected a non-empty string, got {self.name!r}")
+        check_name(self.name, "field 'name'")
         if self.space not in SPACES:
             raise MechanismError(f"field 'space': unknown space {self.space!r} "
                                  f"(expected one of {', '.join(SPACES)})")
         if not isinstance(self.ground, str) or not self.ground:
             raise MechanismError(f"field 'ground': expected a link name, got {self.ground!r}")
+        check_name(self.ground, "field 'ground'")
         joints = tuple(self.joints)
         if not joints:
             raise MechanismError("field 'joints': a mechanism needs at least one joint")
@@ -80,16 +135,21 @@ class Mechanism:
             graph.add_edge(*joint.links, key=joint.name, joint=joint)
         if self.ground not in graph:
             raise MechanismError(f"field 'ground': link {self.ground!r} is not joined to any joint")
+        _check_size(joints, graph, self.space)
         unreachable = set(graph) - nx.node_connected_component(graph, self.ground)
         if unreachable:
+            listed = sorted(unreachable)
+            shown = listed[:_LISTED_LINKS] + (["..."] if len(listed) > _LISTED_LINKS else [])
             raise MechanismError(f"field 'joints': the graph is not connected to the ground; "
-                                 f"links {sorted(unreachable)} are not reachable from {self.ground!r}")
+                                 f"links {shown} are not reachable from {self.ground!r}")
         if self.end_effector is not None:
             if not isinstance(self.end_effector, EndEffector):
                 raise MechanismError("field 'end_effector': expected an EndEffector")
             check_end_effector(self.end_effector, self.space, graph)
+        _check_dangling_links(joints, graph, self.ground, self.end_effector)
         object.__setattr__(self, "joints", joints)
         object.__setattr__(self, "graph", graph)
+        self._check_scale()
 
     @property
     def links(self):
@@ -136,6 +196,37 @@ class Mechanism:
         return tuple(joint.weight for joint in self.joints if joint.actuated
                      for _ in joint_coordinate_names(joint))
 
+    @property
+    def dense_memory_estimate(self):
+        """Bytes the dense algorithms need for this mechanism (:func:`dense_memory_estimate`)."""
+        return dense_memory_estimate(self.ambient_dimension, LOOP_ROWS[self.space] * self.loop_count)
+
+    @cached_property
+    def _spread(self):
+        """(largest distance between two points carried by one link, largest |coordinate| of a point)."""
+        carried = {link: [] for link in self.graph}
+        for joint in self.joints:
+            if joint.point is not None:
+                for link in joint.links:
+                    carried[link].append(joint.point)
+        if self.end_effector is not None and self.end_effector.point is not None:
+            carried[self.end_effector.link].append(self.end_effector.point)
+        spread, extent = 0.0, 0.0
+        for points in carried.values():
+            if points:
+                extent = max(extent, float(np.max(np.abs(points))))
+            if len(points) > 1:
+                spread = max(spread, _diameter(np.asarray(points, dtype=float)))
+        return spread, extent
+
+    def _check_scale(self):
+        """Refuse a geometry too small for the rank tolerances (points that are not merely coincident)."""
+        spread, extent = self._spread
+        if _ROUNDING * extent < spread < SMALLEST_LENGTH:
+            raise MechanismError(f"field 'joints': the geometry is too small: the largest distance between "
+                                 f"two points of one link is {spread:.3g}, below {SMALLEST_LENGTH:g}; "
+                                 f"describe the mechanism in a smaller unit of length")
+
     @cached_property
     def characteristic_length(self):
         """A length that makes the constraint rows dimensionless.
@@ -146,18 +237,7 @@ class Mechanism:
         frame or axis signs. 1 when no link carries two distinct points (e.g.
         spherical mechanisms, whose rows carry no length).
         """
-        carried = {link: [] for link in self.graph}
-        for joint in self.joints:
-            if joint.point is not None:
-                for link in joint.links:
-                    carried[link].append(joint.point)
-        if self.end_effector is not None and self.end_effector.point is not None:
-            carried[self.end_effector.link].append(self.end_effector.point)
-        spread = 0.0
-        for points in carried.values():
-            if len(points) > 1:
-                points = np.asarray(points)
-                spread = max(spread, float(np.max(np.linalg.norm(points[:, None] - points[None], axis=-1))))
+        spread = self._spread[0]
         return spread if spread > 1e-12 else 1.0
 
     def joint(self, name):
@@ -166,3 +246,68 @@ class Mechanism:
             if joint.name == name:
                 return joint
         raise KeyError(f"no joint named {name!r} in mechanism {self.name!r}")
+
+
+def _diameter(points, block=256):
+    """Largest distance between two of the points, shape=[n, d], in O(n) memory."""
+    largest = 0.0
+    for start in range(0, len(points), block):
+        rows = points[start:start + block]
+        largest = max(largest, float(np.max(np.linalg.norm(rows[:, None] - points[None], axis=-1))))
+    return largest
+
+
+def _check_size(joints, graph, space):
+    """Refuse a mechanism whose dense algorithms would need more than :data:`DENSE_MEMORY_LIMIT`."""
+    coordinates = sum(3 if factor == "SO3" else 1 for joint in joints for factor in joint_factors(joint))
+    rows = LOOP_ROWS[space] * max(len(joints) - graph.number_of_nodes() + 1, 0)
+    estimate = dense_memory_estimate(coordinates, rows)
+    if estimate > DENSE_MEMORY_LIMIT:
+        raise MechanismError(
+            f"field 'joints': the mechanism is too large for the dense algorithms: {coordinates} joint "
+            f"coordinates and {rows} constraint rows need about {_binary_size(estimate)} "
+            f"(8·k²·(c + 22) bytes), more than the limit of {_binary_size(DENSE_MEMORY_LIMIT)}")
+
+
+def _looks_like(name, candidates):
+    """The candidate `name` is probably a misspelling of (None if none), ignoring case; names that
+    differ only in their digits (``link1``, ``link2``) are different names, not misspellings."""
+    lowered = {candidate.lower(): candidate for candidate in candidates if candidate != name}
+    for match in difflib.get_close_matches(name.lower(), list(lowered), n=3, cutoff=0.8):
+        if re.sub(r"[0-9]", "", match) != re.sub(r"[0-9]", "", name.lower()):
+            return lowered[match]
+    return None
+
+
+def _known_links(graph, excluded):
+    names = [link for link in graph if link != excluded]
+    shown = names[:_LISTED_LINKS] + (["..."] if len(names) > _LISTED_LINKS else [])
+    return ", ".join(shown)
+
+
+def _check_dangling_links(joints, graph, ground, end_effector):
+    """Refuse a link that only one joint names and that nothing uses: probably a misspelt name.
+
+    A link joined by a single joint that is neither the ground nor the
+    end-effector's link moves freely and carries nothing. In a mechanism with
+    loops that is refused (a misspelt name has opened a loop, or left a
+    dangling link); in a mechanism without loops (a serial chain or a tree,
+    legitimate) only when the name looks like another link's name that is
+    joined to two joints or more, or is the ground or the end-effector's link.
+    """
+    explained = {ground} | ({end_effector.link} if end_effector is not None else set())
+    loops = len(joints) - graph.number_of_nodes() + 1
+    used = {link for link in graph if graph.degree(link) > 1} | explained
+    for joint in joints:
+        for index, link in enumerate(joint.links):
+            if link in explained or graph.degree(link) > 1:
+                continue
+            candidate = _looks_like(link, used if loops == 0 else graph)
+            if loops == 0 and candidate is None:
+                continue
+            guess = (f"probably a misspelling of {candidate!r}" if candidate is not None
+                     else "probably a misspelt name")
+            raise MechanismError(
+                f"joint {joint.name!r}: field 'links': item {index}: link {link!r} appears in no other joint "
+                f"and is neither the ground nor the end-effector's link: {guess} "
+                f"(known links: {_known_links(graph, link)})")

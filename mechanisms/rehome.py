@@ -16,7 +16,7 @@ from . import _groups as groups
 from .kinematics import link_pose
 from .mechanism import Mechanism
 
-__all__ = ["rehome", "move_base", "flip_axis"]
+__all__ = ["rehome", "move_base", "flip_axis", "scale_lengths"]
 
 
 def _transform_point(space, pose, point):
@@ -105,3 +105,37 @@ def flip_axis(mechanism, name):
                 raise ValueError(f"joint {name!r}: only joints with one axis (R, P, C) can be flipped")
         joints.append(joint)
     return Mechanism(mechanism.name, mechanism.space, joints, mechanism.ground, mechanism.end_effector)
+
+
+def scale_lengths(mechanism, factor):
+    """The same mechanism drawn in another unit of length: every point multiplied by `factor`.
+
+    Axes are unchanged; a prismatic (or cylindrical) displacement of the
+    scaled mechanism is `factor` times the original one, angles are equal.
+    No classification verdict, rank or relative margin may change
+    (docs/design.rst, "Metrics"): a file in micrometres is an ordinary file.
+
+    Parameters
+    ----------
+    mechanism : Mechanism
+    factor : float
+        Positive and finite.
+
+    Returns
+    -------
+    Mechanism
+    """
+    factor = float(factor)
+    if not (np.isfinite(factor) and factor > 0):
+        raise ValueError(f"Expected a positive finite factor, got {factor!r}")
+
+    def scaled(point):
+        return None if point is None else tuple(factor * np.asarray(point, dtype=float))
+
+    spherical = mechanism.space == "spherical"
+    joints = [joint if spherical else dataclasses.replace(joint, point=scaled(joint.point))
+              for joint in mechanism.joints]
+    end_effector = mechanism.end_effector
+    if end_effector is not None and end_effector.point is not None and not spherical:
+        end_effector = dataclasses.replace(end_effector, point=scaled(end_effector.point))
+    return Mechanism(mechanism.name, mechanism.space, joints, mechanism.ground, end_effector)

@@ -3,15 +3,47 @@
 
 from __future__ import annotations
 
+from dataclasses import replace
 
 import numpy as np
 
-from mechanisms import configuration
+from mechanisms import catalogue, configuration
 
 from ..classification import classify
-from ._common import check_length_scale, common_options, displacements, dumps, entry_options, source
+from ._common import (
+    check_length_scale, common_options, displacements, dumps, entry_options, entry_values, is_entry, source,
+)
 
-__all__ = ["add_parser", "run"]
+__all__ = ["add_parser", "run", "describe_source"]
+
+
+def describe_source(arguments, at=None):
+    """Where a command's configuration comes from, as the JSON ``source`` object.
+
+    Parameters
+    ----------
+    arguments : argparse.Namespace
+        With ``file`` (FILE|NAME), ``configuration`` and ``param``.
+    at : dict, optional
+        The displacements given with ``--at`` (recorded when not empty).
+
+    Returns
+    -------
+    dict
+        ``{"catalogue": NAME, "parameters": {...}, "configuration": C}`` (every
+        parameter of the entry, the paper's input values included) or
+        ``{"file": PATH, "configuration": C}``; C is None without
+        ``--configuration``.
+    """
+    if is_entry(arguments.file):
+        item = catalogue.entry(arguments.file)
+        result = {"catalogue": item.name, "parameters": entry_values(item, arguments),
+                  "configuration": arguments.configuration}
+    else:
+        result = {"file": arguments.file, "configuration": arguments.configuration}
+    if at:
+        result["at"] = at
+    return result
 
 
 def add_parser(commands):
@@ -30,10 +62,12 @@ def add_parser(commands):
 def run(arguments, out):
     check_length_scale(arguments.length_scale)
     mechanism, named = source(arguments)
-    given = {**named, **displacements(arguments.at)}
+    at = displacements(arguments.at)
+    given = {**named, **at}
     projected = configuration(mechanism, given, project_onto=arguments.project, where="--at")
     rng = np.random.default_rng(arguments.seed)
     report = classify(mechanism, projected.point, rng=rng, length_scale=arguments.length_scale)
+    report = replace(report, source=describe_source(arguments, at))
     if arguments.format == "json":
         result = report.to_dict()
         if arguments.project:

@@ -16,6 +16,8 @@ from ..comparison import compare, sample_configurations
 from ..gosselin_angeles_examples import RELATIONS
 from ..model import joint_output_model, model_of
 from ..paths import path_configurations, singular_crossings
+from ..report import printable
+from .classify_command import describe_source
 from ._common import (
     InputError, check_length_scale, common_options, displacements, dumps, entry_options, is_entry, joint_list, source,
 )
@@ -40,8 +42,8 @@ def add_parser(commands):
     parser.add_argument("--relation", default=None, metavar="NAME",
                         help="use the paper's F of a catalogue entry (e.g. eq9 for slider-crank) instead of the "
                              "matrices derived from the mechanism")
-    parser.add_argument("--samples", type=int, default=8, metavar="N",
-                        help="also compare N configurations sampled over the assembly branches (default 8)")
+    parser.add_argument("--samples", type=int, default=0, metavar="N",
+                        help="also compare N configurations sampled over the assembly branches (default 0)")
     parser.add_argument("--path", type=int, default=0, metavar="N",
                         help="also compare up to N configurations each way along a curve of M through the home, "
                              "and the actuator and end-effector singularities the curve crosses")
@@ -66,15 +68,16 @@ def _paper_relation(arguments, mechanism, point):
         raise InputError(f"--relation: {arguments.relation} does not apply here: {error}") from None
 
 
-def _path_rows(model, start, count, step):
-    """Labels and points along a path of M through `start`, with the singularities it crosses in place."""
+def _path_rows(model, start, count, step, start_label="home"):
+    """Labels and points along a path of M through `start` (labelled `start_label`), with the singularities it
+    crosses in place."""
     path, steps = path_configurations(model, start, count, step=step)
     crossings = {}
     for index, point, kind in singular_crossings(model, path):
         crossings.setdefault(index, []).append((point, kind))
     labels, points = [], []
     for index, (point, step) in enumerate(zip(path, steps)):
-        labels.append("home" if step == 0 else f"path{step:+d}")
+        labels.append(start_label if step == 0 else f"path{step:+d}")
         points.append(point)
         for crossing, kind in crossings.get(index, []):
             labels.append(f"crossing ({kind.replace('_', '-')})")
@@ -108,9 +111,10 @@ def run(arguments, out):
                            where="--at").point for text in arguments.at]
     rng = np.random.default_rng(arguments.seed)
     model = replace(model, starts=np.stack([start, *given]))
-    labels, points = ["home"], [start]
+    start_label = "home" if arguments.configuration is None else arguments.configuration
+    labels, points = [start_label], [start]
     if arguments.path:
-        labels, points = _path_rows(model, start, arguments.path, arguments.path_step)
+        labels, points = _path_rows(model, start, arguments.path, arguments.path_step, start_label)
     labels += [f"at{index}" for index in range(1, len(given) + 1)]
     points += given
     samples = sample_configurations(model, arguments.samples, rng)
@@ -119,10 +123,11 @@ def run(arguments, out):
     relation = coordinates = None
     if arguments.relation is not None:
         relation, coordinates = _paper_relation(arguments, mechanism, points[0])
-    print(f"comparing {len(points)} configurations of {mechanism.name}", file=sys.stderr)
+    print(f"comparing {len(points)} configurations of {printable(mechanism.name)}", file=sys.stderr)
     result = compare(model, np.stack(points), labels, relation=relation, coordinates=coordinates, rng=rng,
                      output_names=output_names)
+    origin = describe_source(arguments)
     if arguments.format == "json":
-        out.write(dumps(result.to_dict()) + "\n")
+        out.write(dumps({"mechanism": result.mechanism, "source": origin, **result.to_dict()}) + "\n")
     else:
-        out.write(result.to_text() + "\n")
+        out.write(result.to_text(source=origin) + "\n")

@@ -1,24 +1,134 @@
-"""``closedchain report [PATH|NAME ...] [--output FILE] [--format json|text]``: classify the catalogue (every
-entry at its defaults and at each named configuration), or every mechanism file under the paths, with the
-derived Gosselin–Angeles kinds alongside."""
+"""``closedchain report [PATH|NAME ...] [--output FILE] [--jobs N] [--format json|text]``: classify the catalogue
+(every entry at its defaults and at each named configuration), or every mechanism file under the paths, with the
+derived Gosselin–Angeles kinds alongside.
+
+The configurations of one design share one survey of M (:func:`classify.survey.survey`), and the designs run in
+parallel (``--jobs``); every configuration is classified with its own generator seeded by ``--seed``, so the
+report does not depend on the number of jobs.
+"""
 
 from __future__ import annotations
 
+import os
 import sys
+import textwrap
+from collections import Counter
+from concurrent.futures import ProcessPoolExecutor, as_completed
+from dataclasses import dataclass, replace
 from pathlib import Path
+from typing import NamedTuple, Optional
 
 import numpy as np
+from tqdm import tqdm
 
 from mechanisms import catalogue, configuration, home
 from mechanisms.io import read
+from mechanisms.joints import joint_coordinate_names
 
 from ..classification import classify
-from ..comparison import comparison_row
-from ..model import model_of
+from ..comparison import REASONS, comparison_row
+from ..model import joint_output_model, model_of
+from ..report import printable
 from ..survey import survey as survey_mechanism
 from ._common import MECHANISM_SUFFIXES, InputError, check_length_scale, common_options, dumps, is_entry
 
-__all__ = ["add_parser", "run", "report_table"]
+__all__ = ["add_parser", "run", "run_tasks", "report_table", "report_summary", "ReportRow", "JOINT_OUTPUTS",
+           "CONFIGURATION_PARAMETERS", "LEGEND"]
+
+#: catalogue entry → the joints whose coordinates are the Gosselin–Angeles outputs, where the paper compares with a
+#: joint output rather than the end-effector (whose dimension differs from the number of inputs): the first joint
+#: of the list that is not actuated. The slider-crank: the slide's displacement x for the crank input θ
+#: (Gosselin & Angeles 1990, eq. 9); driven by the slide (Park & Kim Fig. 3d), the crank angle.
+JOINT_OUTPUTS = {"slider-crank": ("slide", "crank")}
+
+#: catalogue entry → the parameters that place its mechanism in a configuration (inputs, pose, assembly branch,
+#: working mode); the other parameters fix the design. Named configurations whose other parameters are equal are
+#: configurations of one design and share one survey of M. Entries not listed share only between identical
+#: parameter sets: the Gough–Stewart and 5-SPU builders orient universal joints along the legs at the requested
+#: pose, so each pose is a design of its own.
+CONFIGURATION_PARAMETERS = {
+    "slider-crank": ("theta", "branch"),
+    "five-bar": ("theta1", "theta2", "assembly", "theta3"),
+    "spherical-six-bar": ("theta1", "theta2", "theta3", "branch"),
+    "planar-six-bar": ("theta1", "theta2", "theta3", "branch"),
+    "eclipse": ("x", "y", "z", "roll", "pitch", "yaw", "elbow"),
+    "watt-six-bar": ("theta", "branch_rocker", "branch_output", "psi"),
+    "planar-3rrr": ("x", "y", "phi", "mode1", "mode2", "mode3", "theta1", "theta2", "theta3"),
+    "spherical-3rrr": ("rotation_x", "rotation_y", "rotation_z", "working_mode_1", "working_mode_2",
+                       "working_mode_3", "theta_folded"),
+    "3-prr": ("x", "y", "phi", "working_mode"),
+    "3-prr-inputs": ("rho1", "rho2", "rho3", "x", "y", "phi"),
+    "hybrid": ("theta1", "theta2", "theta3", "assembly", "theta4"),
+}
+
+_REASON_LINES = "\n".join(textwrap.fill(f"{reason}: {text}", width=114, initial_indent=" " * 6,
+                                         subsequent_indent=" " * 8) for reason, text in REASONS.items())
+
+#: what the report's table means; the text report starts with it
+LEGEND = f"""\
+closedchain report: the Park–Kim classification of each configuration, Gosselin–Angeles alongside.
+
+Legend
+  source, configuration  the catalogue entry (at its defaults: `default`) or the file (at its home: `home`) and
+                         the named configuration; each row's account, below the table, gives the parameters and
+                         the joint values.
+  dof                    m, the dimension of the C-space M at the configuration.
+  kinds                  the singularities found (cspace, actuator, end_effector), or `regular`.
+  C-space, actuator,     r/e: the rank found here / the rank expected of it — DΦ: its rank on M nearby;
+  end-effector           G: m − the idle freedoms; J: min(dim N, m, the largest rank of J on M). r < e is a
+                         singularity of that kind. `-`: no end-effector.
+    degenerate           an actuator singularity with a self-motion: locked, the actuators do not hold the
+                         mechanism (a motion followed to a finite distance certifies it).
+    nondegenerate        an actuator singularity where, locked, the mechanism is a structure.
+    undetermined         the second-order test is inconclusive (or not run, at a C-space singularity): the
+                         report does not guess.
+    +i idle              i idle freedoms: motions that move neither an actuator nor the end-effector (a leg
+                         spinning between two ball joints); not counted as singular.
+  κ                      the condition number λ₁/λₙ of the manipulability proper values; `∞` at an end-effector
+                         singularity (λₙ = 0); `-` where they are not defined (no end-effector, an actuator or
+                         a C-space singularity).
+  G–A (derived)          Gosselin & Angeles's kinds from the matrices A, B derived from the mechanism: I (det B
+                         = 0) ↔ end-effector, II (det A = 0) ↔ actuator, III (both) ↔ both or C-space;
+                         `regular`; `undefined` where A and B are not n × n. The outputs are the end-effector's
+                         coordinates, or `[outputs …]` the joint coordinates the paper uses (Park–Kim then
+                         classified with the same outputs). A reason in brackets when the two do not
+                         correspond:
+{_REASON_LINES}
+"""
+
+
+class ReportRow(NamedTuple):
+    """One configuration of the report.
+
+    Attributes
+    ----------
+    source : str
+        The catalogue name or the file.
+    name : str
+        The configuration's name (``default``, ``home`` or a named configuration).
+    report : Report
+        Park–Kim, with the mechanism's own end-effector.
+    comparison : ComparisonRow
+        Gosselin–Angeles from the derived matrices, and how it corresponds.
+    outputs : tuple of str or None
+        The output coordinates of the comparison when they are joint coordinates (:data:`JOINT_OUTPUTS`);
+        None: the end-effector's.
+    """
+
+    source: str
+    name: str
+    report: object
+    comparison: object
+    outputs: Optional[tuple] = None
+
+
+@dataclass(frozen=True)
+class _Task:
+    """A unit of work: configurations of one source, in report order, that share their surveys."""
+
+    source: str
+    names: tuple
+    is_file: bool = False
 
 
 def add_parser(commands):
@@ -26,7 +136,10 @@ def add_parser(commands):
     parser.add_argument("paths", nargs="*", default=[], metavar="PATH|NAME",
                         help="files, folders or catalogue names (default: every catalogue entry, "
                              "at its defaults and at each named configuration)")
-    parser.add_argument("--output", default=None, help="also write the report to this file")
+    parser.add_argument("--output", default=None,
+                        help="write the report to this file and print only a summary")
+    parser.add_argument("--jobs", type=int, default=None, metavar="N",
+                        help="processes to run in parallel (default: the available cores; 1: none)")
     parser.add_argument("--format", choices=("json", "text"), default="text")
     common_options(parser)
     return parser
@@ -40,93 +153,272 @@ def _mechanism_files(paths):
         elif path.exists():
             files.append(path)
         else:
-            raise InputError(f"{path}: no such file or folder")
+            raise InputError(f"{printable(path)}: no such file or folder")
     if not files:
-        raise InputError(f"no mechanism files (.yaml, .yml, .json) under {', '.join(map(str, paths))}")
+        raise InputError(f"no mechanism files (.yaml, .yml, .json) under {', '.join(map(printable, paths))}")
     return files
 
 
-def report_table(reports):
-    """A fixed-width table of (source, configuration name, Report, ComparisonRow) rows; the source is a
-    catalogue name or a file, the last column Gosselin–Angeles's kinds from the derived matrices."""
+# ------------------------------------------------------------------------------------------------ the table
+
+def _rank(result):
+    return "-" if result is None else f"{result.rank}/{result.expected_rank}"
+
+
+def _actuator_cell(report):
+    cell = _rank(report.actuator) + (f" {report.degeneracy}" if report.degeneracy else "")
+    return cell + (f" +{report.idle_freedoms} idle" if report.idle_freedoms else "")
+
+
+def _condition_cell(report):
+    if report.manipulability is None:
+        return "-"
+    value = report.manipulability.condition_number
+    return "∞" if value is None else f"{value:.3g}"
+
+
+def _gosselin_angeles_cell(comparison, outputs):
+    cell = comparison.gosselin_angeles.label + ("" if comparison.agree else f" ({comparison.reason})")
+    return cell + (f" [outputs {', '.join(map(printable, outputs))}]" if outputs else "")
+
+
+def report_table(rows):
+    """A fixed-width table, one line per :class:`ReportRow` (or ``(source, name, report, comparison)`` tuple).
+
+    The last column is Gosselin–Angeles's kinds from the derived matrices; names are escaped
+    (:func:`classify.report.printable`).
+    """
     header = ("source", "configuration", "dof", "kinds", "C-space", "actuator", "end-effector", "κ",
               "G–A (derived)")
-    rows = []
-    for source, name, report, comparison in reports:
-        def rank(result):
-            return "-" if result is None else f"{result.rank}/{result.expected_rank}"
-        actuator = rank(report.actuator) + (f" {report.degeneracy}" if report.degeneracy else "")
-        condition = "-"
-        if report.manipulability is not None:
-            value = report.manipulability.condition_number
-            condition = "∞" if value is None else f"{value:.3g}"
-        rows.append((source, name, str(report.dof), ", ".join(report.kinds) or "regular",
-                     rank(report.cspace), actuator, rank(report.end_effector), condition,
-                     comparison.gosselin_angeles.label + ("" if comparison.agree else f" ({comparison.reason})")))
-    widths = [max(len(row[i]) for row in rows + [header]) for i in range(len(header))]
-    lines = ["  ".join(cell.ljust(width) for cell, width in zip(row, widths)).rstrip()
-             for row in [header] + rows]
-    lines.insert(1, "  ".join("-" * width for width in widths))
+    lines = []
+    for row in (ReportRow(*row) for row in rows):
+        report = row.report
+        lines.append((printable(row.source), printable(row.name), str(report.dof),
+                      ", ".join(report.kinds) or "regular", _rank(report.cspace), _actuator_cell(report),
+                      _rank(report.end_effector), _condition_cell(report),
+                      _gosselin_angeles_cell(row.comparison, row.outputs)))
+    widths = [max(len(line[i]) for line in lines + [header]) for i in range(len(header))]
+    text = ["  ".join(cell.ljust(width) for cell, width in zip(line, widths)).rstrip() for line in [header] + lines]
+    text.insert(1, "  ".join("-" * width for width in widths))
+    return "\n".join(text)
+
+
+def _comparison_text(row):
+    comparison = row.comparison
+    verdict = "corresponds" if comparison.agree else f"differs: {comparison.reason}"
+    outputs = f", outputs {', '.join(map(printable, row.outputs))}" if row.outputs else ""
+    return (f"Gosselin–Angeles (derived{outputs}): {comparison.gosselin_angeles.label} "
+            f"({verdict}; {printable(comparison.note)})")
+
+
+def _text(rows):
+    details = "\n\n".join(f"== {printable(row.source)} [{printable(row.name)}]\n{row.report.to_text()}\n"
+                          f"  {_comparison_text(row)}" for row in rows)
+    return LEGEND + "\n" + report_table(rows) + "\n\n" + details
+
+
+def _json(rows):
+    result = []
+    for row in rows:
+        classified = row.report.to_dict()
+        origin = classified.pop("source", None) or {}
+        comparison = row.comparison.to_dict(park_kim=False)
+        comparison["outputs"] = None if row.outputs is None else list(row.outputs)
+        if row.outputs is not None:
+            comparison["park_kim_kinds"] = list(row.comparison.park_kim.kinds)
+        result.append({"source": row.source, "configuration_name": row.name,
+                       **({"parameters": origin["parameters"]} if "parameters" in origin else {}),
+                       **classified, "comparison": comparison})
+    return dumps(result)
+
+
+def report_summary(rows, output):
+    """A few lines for the terminal: the counts by kind and where the report is.
+
+    Parameters
+    ----------
+    rows : sequence of ReportRow
+    output : str
+        Where the report was written.
+
+    Returns
+    -------
+    str
+    """
+    kinds = Counter(kind for row in rows for kind in row.report.kinds)
+    degeneracy = Counter(row.report.degeneracy for row in rows if row.report.degeneracy)
+    regular = sum(not row.report.kinds for row in rows)
+    sources = len(dict.fromkeys(row.source for row in rows))
+    agree = sum(row.comparison.agree for row in rows)
+    undefined = sum(not row.comparison.gosselin_angeles.defined for row in rows)
+    by_kind = ", ".join(f"{count} {kind.replace('_', '-')}" for kind, count in sorted(kinds.items()))
+    split = ", ".join(f"{degeneracy[name]} {name}" for name in ("degenerate", "nondegenerate", "undetermined")
+                      if degeneracy[name])
+    lines = [f"classified {len(rows)} configurations of {sources} mechanism(s): {regular} regular; "
+             f"singular: {by_kind or 'none'}" + (f" (actuator: {split})" if split else ""),
+             f"Gosselin–Angeles (derived): {agree} correspond, {len(rows) - agree - undefined} differ, "
+             f"{undefined} undefined",
+             f"the whole report (legend, table, one account per configuration) is in {printable(output)}"]
     return "\n".join(lines)
 
 
-def _reported(model, name, point, survey, rng):
-    """(Report, ComparisonRow) of one configuration: Park–Kim, then the derived Gosselin–Angeles side."""
-    report = classify(model, point, survey=survey, rng=rng)
-    return report, comparison_row(model, point, report, name)
+# ------------------------------------------------------------------------------------------------ the work
+
+def _design(item, name):
+    """The key of the design a named configuration of a catalogue entry belongs to."""
+    placing = set(CONFIGURATION_PARAMETERS.get(item.name, ()))
+    values = item.values(None if name == "default" else name)
+    return tuple((key, repr(value)) for key, value in values.items() if key not in placing)
 
 
-def _file_reports(paths, arguments):
-    """(file, configuration name, Report, ComparisonRow) for every mechanism file under the paths."""
-    for path in _mechanism_files(paths):
-        document = read(path)
-        mechanism = document.mechanism
-        named = {"home": {}}
-        named.update(document.configurations)
-        points = {name: configuration(mechanism, values, where=f"{path}: configurations[{name!r}]").point
-                  for name, values in named.items()}
-        rng = np.random.default_rng(arguments.seed)
-        model = model_of(mechanism, arguments.length_scale)
-        shared = survey_mechanism(model, rng, starts=np.stack(list(points.values())))
-        for name, point in points.items():
-            print(f"classifying {path} [{name}]", file=sys.stderr)
-            yield (str(path), name, *_reported(model, name, point, shared, rng))
+def _catalogue_tasks(item):
+    """One task per design of a catalogue entry, in order of first appearance."""
+    groups = {}
+    for name in ("default", *item.configurations):
+        groups.setdefault(_design(item, name), []).append(name)
+    return [_Task(item.name, tuple(names)) for names in groups.values()]
 
 
-def _catalogue_reports(items, arguments):
-    """(entry name, configuration name, Report, ComparisonRow) for catalogue entries at each named
-    configuration."""
-    for item in items:
-        for name in ("default", *item.configurations):
-            print(f"classifying {item.name} [{name}]", file=sys.stderr)
-            mechanism = item.mechanism(None if name == "default" else name)
-            rng = np.random.default_rng(arguments.seed)
-            yield (item.name, name, *_reported(model_of(mechanism, arguments.length_scale), name, home(mechanism),
-                                                None, rng))
+def _layout(mechanism):
+    """What a shared survey needs to be identical: the coordinates, actuators and end-effector."""
+    joints = tuple((joint.name, joint.type, joint.links, joint.actuated) for joint in mechanism.joints)
+    end_effector = mechanism.end_effector
+    return (mechanism.space, mechanism.coordinate_names, joints,
+            None if end_effector is None else (end_effector.link, end_effector.output))
 
 
-def _comparison_text(comparison):
-    verdict = "corresponds" if comparison.agree else f"differs: {comparison.reason}"
-    return f"{comparison.gosselin_angeles.label} ({verdict}; {comparison.note})"
+def _joint_outputs(entry_name, mechanism):
+    """The output joints of the comparison (:data:`JOINT_OUTPUTS`), or None for the end-effector."""
+    for joint in JOINT_OUTPUTS.get(entry_name, ()):
+        if not mechanism.joint(joint).actuated:
+            return (joint,)
+    return None
+
+
+class _Surveys:
+    """Surveys of M shared by the configurations of one task, keyed by layout and outputs."""
+
+    def __init__(self, seed):
+        self.seed = seed
+        self.known = {}
+
+    def of(self, key, model):
+        if key not in self.known:
+            self.known[key] = survey_mechanism(model, np.random.default_rng(self.seed), starts=model.starts)
+        return self.known[key]
+
+
+def _catalogue_rows(task, seed, length_scale):
+    """The rows of a catalogue task: each configuration classified on its own mechanism (built at it), with the
+    design's shared surveys."""
+    item = catalogue.entry(task.source)
+    surveys = _Surveys(seed)
+    rows = []
+    for name in task.names:
+        mechanism = item.mechanism(None if name == "default" else name)
+        model, point, layout = model_of(mechanism, length_scale), home(mechanism), _layout(mechanism)
+        report = classify(model, point, survey=surveys.of(layout, model), rng=np.random.default_rng(seed))
+        report = replace(report, source={"catalogue": item.name,
+                                         "parameters": item.values(None if name == "default" else name),
+                                         "configuration": None if name == "default" else name})
+        outputs = _joint_outputs(item.name, mechanism)
+        compared_model, compared = model, report
+        if outputs is not None:
+            compared_model = joint_output_model(mechanism, outputs)
+            compared = classify(compared_model, point, survey=surveys.of((layout, outputs), compared_model),
+                                rng=np.random.default_rng(seed))
+            outputs = tuple(name for joint in outputs for name in joint_coordinate_names(mechanism.joint(joint)))
+        rows.append(ReportRow(item.name, name, report, comparison_row(compared_model, point, compared, name),
+                              outputs))
+    return rows
+
+
+def _file_rows(task, seed, length_scale):
+    """The rows of a mechanism file at its home and named configurations, with one survey from all of them."""
+    path = Path(task.source)
+    document = read(path)
+    mechanism = document.mechanism
+    named = {"home": {}, **document.configurations}
+    points = {name: configuration(mechanism, values, where=f"{printable(path)}: configurations[{name!r}]").point
+              for name, values in named.items()}
+    model = model_of(mechanism, length_scale)
+    shared = survey_mechanism(model, np.random.default_rng(seed), starts=np.stack(list(points.values())))
+    rows = []
+    for name, point in points.items():
+        report = classify(model, point, survey=shared, rng=np.random.default_rng(seed))
+        report = replace(report, source={"file": task.source, "configuration": None if name == "home" else name})
+        rows.append(ReportRow(task.source, name, report, comparison_row(model, point, report, name)))
+    return rows
+
+
+def _rows(task, seed, length_scale):
+    """The report rows of one task (run in a worker process)."""
+    return (_file_rows if task.is_file else _catalogue_rows)(task, seed, length_scale)
+
+
+def _progress(total):
+    """A progress bar on stderr: only on a terminal, never in CI."""
+    quiet = not sys.stderr.isatty() or bool(os.environ.get("CI"))
+    return tqdm(total=total, unit="configuration", file=sys.stderr, disable=quiet, leave=False,
+                desc="classifying")
+
+
+def _available_cores():
+    return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
+
+
+def run_tasks(tasks, seed=0, length_scale=None, jobs=None):
+    """Every task's rows, in task order, with a progress bar; in `jobs` processes (1: in this one).
+
+    The rows do not depend on `jobs`: each configuration is classified with
+    ``numpy.random.default_rng(seed)`` and each shared survey too.
+    """
+    jobs = min(_available_cores() if jobs is None else jobs, len(tasks))
+    with _progress(sum(len(task.names) for task in tasks)) as progress:
+        if jobs <= 1:
+            results = []
+            for task in tasks:
+                results.append(_rows(task, seed, length_scale))
+                progress.update(len(task.names))
+            return [row for rows in results for row in rows]
+        with ProcessPoolExecutor(max_workers=jobs) as executor:
+            futures = {executor.submit(_rows, task, seed, length_scale): task for task in tasks}
+            try:
+                for future in as_completed(futures):
+                    future.result()  # a worker's error stops the report at once
+                    progress.update(len(futures[future].names))
+            except BaseException:
+                executor.shutdown(wait=False, cancel_futures=True)
+                raise
+            return [row for future in futures for row in future.result()]
+
+
+def _tasks(arguments):
+    """The tasks of the report, and every (source, configuration name) in report order."""
+    names = [text for text in arguments.paths if is_entry(text)] if arguments.paths else catalogue.names()
+    paths = [text for text in arguments.paths if not is_entry(text)]
+    tasks, order = [], []
+    for item in map(catalogue.entry, dict.fromkeys(names)):
+        tasks += _catalogue_tasks(item)
+        order += [(item.name, name) for name in ("default", *item.configurations)]
+    if paths:
+        for path in dict.fromkeys(map(str, _mechanism_files(paths))):
+            tasks.append(_Task(path, ("home", *read(path).configurations), is_file=True))
+            order += [(path, name) for name in tasks[-1].names]
+    return tasks, order
 
 
 def run(arguments, out):
     check_length_scale(arguments.length_scale)
-    names = [text for text in arguments.paths if is_entry(text)] if arguments.paths else catalogue.names()
-    paths = [text for text in arguments.paths if not is_entry(text)]
-    reports = list(_catalogue_reports(map(catalogue.entry, names), arguments))
-    if paths:
-        reports += list(_file_reports(paths, arguments))
-    if arguments.format == "json":
-        text = dumps([{"source": source, "configuration_name": name, **report.to_dict(),
-                            "comparison": comparison.to_dict(park_kim=False)}
-                           for source, name, report, comparison in reports])
-    else:
-        details = "\n\n".join(f"== {path} [{name}]\n{report.to_text()}\n  Gosselin–Angeles (derived): "
-                               f"{_comparison_text(comparison)}"
-                               for path, name, report, comparison in reports)
-        text = report_table(reports) + "\n\n" + details
-    out.write(text + "\n")
-    if arguments.output:
-        Path(arguments.output).write_text(text + "\n", encoding="utf-8")
-        print(f"report written to {arguments.output}", file=sys.stderr)
+    if arguments.jobs is not None and arguments.jobs < 1:
+        raise InputError(f"--jobs: expected a count ≥ 1, got {arguments.jobs}")
+    tasks, order = _tasks(arguments)
+    position = {key: index for index, key in enumerate(order)}
+    rows = sorted(run_tasks(tasks, arguments.seed, arguments.length_scale, arguments.jobs),
+                  key=lambda row: position[row.source, row.name])
+    text = _json(rows) if arguments.format == "json" else _text(rows)
+    if not arguments.output:
+        out.write(text + "\n")
+        return
+    Path(arguments.output).write_text(text + "\n", encoding="utf-8")
+    out.write(report_summary(rows, arguments.output) + "\n")

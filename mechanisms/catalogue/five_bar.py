@@ -8,7 +8,7 @@ P − C) and θ4 (of P − D) are measured from the direction of AB. The design 
 Park & Kim (1999 eq. 8, Figs. 1, 6, 13) is the
 symmetric L0 = 2, L1 = L2 = 1 (Fig. 13: a non-symmetric design).
 
-The singular configurations of 004: the direct-kinematics matrix A (eq. 3b) is
+The singular configurations of Chablat, Wenger & Angeles 1998: the direct-kinematics matrix A (eq. 3b) is
 singular iff θ3 − θ4 = kπ (eq. 9); the inverse-kinematics matrix B (eq. 3c) iff
 θ3 − θ1 = kπ or θ4 − θ2 = kπ (eqs. 10-13). The working modes (Section 3.3,
 Fig. 2) are the sign patterns of B's diagonal, sin(θ3 − θ1) and sin(θ4 − θ2).
@@ -97,16 +97,16 @@ def five_bar_points(*, base=6.0, proximal=8.0, distal=5.0, proximal_right=0.0, d
     Parameters
     ----------
     base, proximal, distal : float
-        L0 = ‖AB‖, L1 = ‖AC‖, L2 = ‖CP‖ (004 Fig. 1).
+        L0 = ‖AB‖, L1 = ‖AC‖, L2 = ‖CP‖ (Chablat, Wenger & Angeles 1998, Fig. 1).
     proximal_right, distal_right : float
-        L3 = ‖BD‖, L4 = ‖DP‖; 0 means L3 = L1, L4 = L2 (the symmetric design of 004).
+        L3 = ‖BD‖, L4 = ‖DP‖; 0 means L3 = L1, L4 = L2 (the symmetric design of Chablat, Wenger & Angeles 1998).
     theta1, theta2 : float
         Actuated angles (rad): C = L1 (cos θ1, sin θ1), D = B + L3 (cos θ2, sin θ2).
     assembly : {1, -1, 0}
         The direct-kinematics branch: P to the left (+1) or right (−1) of the
         directed line C→D; the two branches meet where θ3 − θ4 = π (or 0, eq. 9).
         0: the elbows coincide (C = D, needs L2 = L4) and P = C + L2 (cos θ3, sin θ3):
-        the branch of degenerate configurations where P turns freely (004 Sec. 3.4,
+        the branch of degenerate configurations where P turns freely (Chablat, Wenger & Angeles 1998, Sec. 3.4,
         Park & Kim Figs. 1c, 1d, 6b).
     theta3 : float
         θ3, the angle of P − C; read only with ``assembly=0``.
@@ -149,14 +149,14 @@ def five_bar_points(*, base=6.0, proximal=8.0, distal=5.0, proximal_right=0.0, d
 
 def five_bar_inputs(x, y, *, working_mode="++", base=6.0, proximal=8.0, distal=5.0, proximal_right=0.0,
                     distal_right=0.0):
-    """The inverse kinematics: inputs reaching P = (x, y) in a working mode of 004 (Sec. 3.3).
+    """The inverse kinematics: inputs reaching P = (x, y) in a working mode of Chablat, Wenger & Angeles 1998 (Sec. 3.3).
 
     Parameters
     ----------
     x, y : float
         The position of P.
     working_mode : {"++", "+-", "-+", "--"}
-        Signs of sin(θ3 − θ1) and sin(θ4 − θ2), the diagonal of B (004 eq. 3c).
+        Signs of sin(θ3 − θ1) and sin(θ4 − θ2), the diagonal of B (Chablat, Wenger & Angeles 1998, eq. 3c).
     base, proximal, distal, proximal_right, distal_right : float
         As in :func:`five_bar_points`.
 
@@ -194,17 +194,17 @@ def five_bar(*, base=6.0, proximal=8.0, distal=5.0, proximal_right=0.0, distal_r
     Parameters
     ----------
     base, proximal, distal : float
-        L0 = ‖AB‖, L1 = ‖AC‖, L2 = ‖CP‖ (004 Fig. 1; defaults: the example of 004
+        L0 = ‖AB‖, L1 = ‖AC‖, L2 = ‖CP‖ (Chablat, Wenger & Angeles 1998, Fig. 1; defaults: the example of Chablat, Wenger & Angeles 1998
         Sec. 3.4, L0 = 6, L1 = 8, L2 = 5). Park & Kim's design: 2, 1, 1.
     proximal_right, distal_right : float
         L3 = ‖BD‖, L4 = ‖DP‖; 0 (default) means L3 = L1, L4 = L2, the symmetric
-        manipulator 004 studies.
+        manipulator Chablat, Wenger & Angeles 1998 study.
     theta1, theta2 : float
         The actuated angles θ1 of C − A and θ2 of D − B (rad), from the direction AB.
     assembly : {1, -1, 0}
         The direct-kinematics branch (see :func:`five_bar_points`): P left (+1) or
         right (−1) of C→D; 0: coincident elbows C = D, P placed by `theta3`. The
-        working mode of 004 (the inverse-kinematics branch) follows from the
+        working mode of Chablat, Wenger & Angeles 1998 (the inverse-kinematics branch) follows from the
         posture; :func:`five_bar_inputs` gives the inputs of a posture in a mode.
     theta3 : float
         θ3, the angle of P − C; read only with ``assembly=0``.
@@ -223,7 +223,7 @@ def five_bar(*, base=6.0, proximal=8.0, distal=5.0, proximal_right=0.0, distal_r
 
     Notes
     -----
-    With p − c = L2 (cos θ3, sin θ3) and p − d = L4 (cos θ4, sin θ4), 004's
+    With p − c = L2 (cos θ3, sin θ3) and p − d = L4 (cos θ4, sin θ4), Chablat, Wenger & Angeles 1998's
     A p˙ = B θ˙ has A = [(p − c)ᵀ; (p − d)ᵀ] and B = diag(L1 L2 sin(θ3 − θ1),
     L3 L4 sin(θ4 − θ2)) (eqs. 3b-c): A is singular iff θ3 − θ4 = kπ (the
     actuator singularities of Park & Kim), B iff θ3 − θ1 = kπ or θ4 − θ2 = kπ
@@ -260,14 +260,14 @@ _FIG13 = {"base": math.sqrt(13.0), "proximal": 1.0, "distal": 1.0, "proximal_rig
 
 
 def _distal_aligned(theta1, side, base=6.0, proximal=8.0, distal=5.0):
-    """Inputs with θ3 − θ4 = π (004 eq. 9): ‖CD‖ = 2 L2, D on the circle of radius L1 about B."""
+    """Inputs with θ3 − θ4 = π (Chablat, Wenger & Angeles 1998, eq. 9): ‖CD‖ = 2 L2, D on the circle of radius L1 about B."""
     c = (proximal * math.cos(theta1), proximal * math.sin(theta1))
     d = circle_intersection(c, 2 * distal, (base, 0.0), proximal, side)
     return {"theta1": theta1, "theta2": math.atan2(d[1], d[0] - base)}
 
 
 def _leg_singular(leg, stretched, angle, working_mode):
-    """Inputs of 004's design with one leg stretched (θ3 = θ1) or folded (θ3 = θ1 + π), eq. 3c.
+    """Inputs of Chablat, Wenger & Angeles 1998's design with one leg stretched (θ3 = θ1) or folded (θ3 = θ1 + π), eq. 3c.
 
     P is on the circle of radius L1 ± L2 about the leg's base joint, at `angle` from AB; the other
     leg's sign is that of `working_mode` (the stretched leg's sign is moot).
@@ -279,12 +279,12 @@ def _leg_singular(leg, stretched, angle, working_mode):
 
 
 def _elbows_coincide():
-    """Inputs of 004's design with C = D: C on the circles of radius L1 = 8 about A and about B."""
+    """Inputs of Chablat, Wenger & Angeles 1998's design with C = D: C on the circles of radius L1 = 8 about A and about B."""
     c = circle_intersection((0.0, 0.0), 8.0, (6.0, 0.0), 8.0, 1)
     return {"theta1": math.atan2(c[1], c[0]), "theta2": math.atan2(c[1], c[0] - 6.0), "assembly": 0}
 
 
-#: A generic posture of 004's design, P = (3, 7), in each of its four working modes (Fig. 2).
+#: A generic posture of Chablat, Wenger & Angeles 1998's design, P = (3, 7), in each of its four working modes (Fig. 2).
 _WORKING_MODES = {f"fig2_working_mode_{mode.replace('+', 'p').replace('-', 'm')}":
                   five_bar_inputs(3.0, 7.0, working_mode=mode) for mode in WORKING_MODES}
 
@@ -305,7 +305,7 @@ ENTRIES = (
                                         "theta3": math.pi / 2},
               # Park & Kim Fig. 13: left leg stretched and distal links aligned.
               "fig13_combined": _FIG13,
-              # 004, design L0 = 6, L1 = 8, L2 = 5 (Sec. 3.4).
+              # Chablat, Wenger & Angeles 1998, design L0 = 6, L1 = 8, L2 = 5 (Sec. 3.4).
               **_WORKING_MODES,
               "eq9_distal_aligned": _distal_aligned(1.2, 1),
               "sec34_elbows_coincide": {**_elbows_coincide(), "theta3": 2.8},

@@ -2,7 +2,7 @@
 
 The symmetric five-bar of Fig. 1 (``five_bar.py``) turned about the line AB of
 its fixed revolutes by a third actuated revolute (Chablat, Wenger & Angeles 1998
-Sec. 4). AB is the Y axis: A at the origin, B = (0, L0, 0). In 004's notation
+Sec. 4). AB is the Y axis: A at the origin, B = (0, L0, 0). In Chablat, Wenger & Angeles 1998's notation
 for this manipulator θ1 is the angle of the base revolute about Y, θ2 and θ3
 the actuated angles of the five-bar at A and B, θ4 and θ5 the angles of the
 distal links P − C and P − D, all five-bar angles measured from the direction
@@ -38,7 +38,7 @@ def hybrid_points(*, base=6.0, proximal=8.0, distal=5.0, theta1=0.4, theta2=1.8,
     Parameters
     ----------
     base, proximal, distal : float
-        L0 = ‖AB‖, L1 = ‖AC‖ = ‖BD‖, L2 = ‖CP‖ = ‖DP‖ (004 Figs. 1, 6).
+        L0 = ‖AB‖, L1 = ‖AC‖ = ‖BD‖, L2 = ‖CP‖ = ‖DP‖ (Chablat, Wenger & Angeles 1998, Figs. 1, 6).
     theta1 : float
         θ1, the angle (rad) of the base revolute about the Y axis (line AB).
     theta2, theta3 : float
@@ -70,12 +70,12 @@ def hybrid_points(*, base=6.0, proximal=8.0, distal=5.0, theta1=0.4, theta2=1.8,
 
 def hybrid(*, base=6.0, proximal=8.0, distal=5.0, theta1=0.4, theta2=1.8, theta3=1.3, assembly=1, theta4=0.0,
            end_effector=True):
-    """The 3-dof hybrid manipulator of 004 Fig. 6: a five-bar turned about AB, at inputs θ1, θ2, θ3.
+    """The 3-dof hybrid manipulator of Chablat, Wenger & Angeles 1998, Fig. 6: a five-bar turned about AB, at inputs θ1, θ2, θ3.
 
     Parameters
     ----------
     base, proximal, distal : float
-        L0, L1 = L3, L2 = L4 (004 Sec. 3.4 design: 6, 8, 5).
+        L0, L1 = L3, L2 = L4 (Chablat, Wenger & Angeles 1998, Sec. 3.4 design: 6, 8, 5).
     theta1 : float
         θ1, the base revolute's angle about AB (the Y axis), rad.
     theta2, theta3 : float
@@ -96,7 +96,7 @@ def hybrid(*, base=6.0, proximal=8.0, distal=5.0, theta1=0.4, theta2=1.8, theta3
 
     Notes
     -----
-    004 eq. (22): A ṗ = B θ˙ with A = [L2 kᵀ; (p − c)ᵀ; (p − d)ᵀ] and
+    Chablat, Wenger & Angeles 1998, eq. (22): A ṗ = B θ˙ with A = [L2 kᵀ; (p − c)ᵀ; (p − d)ᵀ] and
     B = L1 L2 diag(sin θ2 + λ1 sin θ4, sin(θ2 − θ4), sin(θ3 − θ5)), λ1 = L2/L1.
     det A = 0 iff θ4 − θ5 = kπ (eq. 24): actuator singularity; B singular iff
     d1 = L1 sin θ2 + L2 sin θ4 = 0, θ2 = θ4 + kπ or θ3 = θ5 + kπ (eq. 30):
@@ -116,7 +116,7 @@ def hybrid(*, base=6.0, proximal=8.0, distal=5.0, theta1=0.4, theta2=1.8, theta3
 
 
 def _planar(x, y, working_mode="-+"):
-    """Hybrid inputs θ2, θ3 and branch reaching P = (x, y) (x along AB, y across) in 004's design."""
+    """Hybrid inputs θ2, θ3 and branch reaching P = (x, y) (x along AB, y across) in Chablat, Wenger & Angeles 1998's design."""
     inputs = five_bar_inputs(x, y, working_mode=working_mode)
     return {"theta2": inputs["theta1"], "theta3": inputs["theta2"], "assembly": inputs["assembly"]}
 

@@ -102,13 +102,15 @@ def test_fig10_locked_platform_is_isolated_at_third_order():
     assert residuals[0] / residuals[1] == pytest.approx(1e3, rel=0.05)
 
 
-@pytest.mark.xfail(reason="core limitation, not a paper error: at the mirror-symmetric pose of Fig. 10 "
-                          "the second-order forms Q_e vanish on ker G by symmetry, so the classifier "
-                          "reports 'undetermined'; the locked platform is isolated at third order "
-                          "(test_fig10_locked_platform_is_isolated_at_third_order)", strict=True)
 def test_fig10_is_nondegenerate_as_the_paper_states():
-    """Park & Kim Fig. 10: "a nondegenerate actuator singularity for the Eclipse"."""
-    assert classified(ENTRY.mechanism("fig10_actuator")).degeneracy == "nondegenerate"
+    """Park & Kim Fig. 10: "a nondegenerate actuator singularity for the Eclipse". At the mirror-symmetric
+    pose the second-order forms Q_e vanish on ker G by symmetry; no self-motion continues from the root,
+    and the fibre is obstructed at third order (the independent check above): p̄ is isolated."""
+    report = classified(ENTRY.mechanism("fig10_actuator"))
+    assert report.degeneracy == "nondegenerate"
+    higher = report.second_order.higher_order
+    assert higher.verdict == "isolated" and higher.order == 3
+    assert higher.obstruction > 1e3 * higher.tolerance
 
 
 @pytest.mark.parametrize("parameters", [{"y": 0.35}, {"y": 0.25}, {"x": 0.05}])

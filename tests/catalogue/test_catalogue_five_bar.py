@@ -1,7 +1,7 @@
 """Five-bar: Chablat, Wenger & Angeles (1998) Fig. 1, eqs. (1)-(13), Fig. 2;
 Park & Kim (1999) eq. (8), Figs. 1, 6, 13.
 
-The 004 conditions are evaluated from the joint centres of the built mechanism, independently of
+The Chablat, Wenger & Angeles 1998 conditions are evaluated from the joint centres of the built mechanism, independently of
 the classifier: A (eq. 3b) is singular iff θ3 − θ4 = kπ, B (eq. 3c) iff θ3 − θ1 = kπ or
 θ4 − θ2 = kπ. Park-Kim/Gosselin-Angeles: singular A ↔ actuator, singular B ↔ end_effector.
 """
@@ -19,7 +19,7 @@ from mechanisms.catalogue.five_bar import (
 )
 
 (ENTRY,) = ENTRIES
-DESIGN = {"base": 6.0, "proximal": 8.0, "distal": 5.0}  # 004 Sec. 3.4
+DESIGN = {"base": 6.0, "proximal": 8.0, "distal": 5.0}  # Chablat, Wenger & Angeles 1998, Sec. 3.4
 #: The kinds of each named configuration (the tests below say why).
 EXPECTED_KINDS = {
     "fig1a_collinear": ("cspace", "end_effector"),
@@ -53,7 +53,7 @@ NEARBY = {
 
 
 def angles(mechanism):
-    """004's θ1..θ4 (from AB) read off the joint centres of a built five-bar."""
+    """Chablat, Wenger & Angeles 1998's θ1..θ4 (from AB) read off the joint centres of a built five-bar."""
     point = {joint.name: np.array(joint.point) for joint in mechanism.joints}
     heading = point["B"] - point["A"]
     reference = math.atan2(heading[1], heading[0])
@@ -66,7 +66,7 @@ def angles(mechanism):
 
 
 def predicted_kinds(mechanism, tolerance=1e-9):
-    """The kinds 004's conditions predict: A singular → actuator, B singular → end_effector."""
+    """The kinds Chablat, Wenger & Angeles 1998's conditions predict: A singular → actuator, B singular → end_effector."""
     theta1, theta2, theta3, theta4 = angles(mechanism)
     kinds = set()
     if abs(math.sin(theta3 - theta4)) < tolerance:
@@ -77,7 +77,7 @@ def predicted_kinds(mechanism, tolerance=1e-9):
 
 
 def working_mode(mechanism):
-    """Signs of sin(θ3 − θ1), sin(θ4 − θ2): B's diagonal (004 eq. 3c, Sec. 3.3)."""
+    """Signs of sin(θ3 − θ1), sin(θ4 − θ2): B's diagonal (Chablat, Wenger & Angeles 1998, eq. 3c, Sec. 3.3)."""
     theta1, theta2, theta3, theta4 = angles(mechanism)
     return "".join("+" if math.sin(value) > 0 else "-" for value in (theta3 - theta1, theta4 - theta2))
 
@@ -119,7 +119,7 @@ def test_the_named_configurations_are_at_the_papers_geometry():
 
 @pytest.mark.parametrize("name", ["fig1a_collinear", "fig1b_collinear", "fig1c_collinear", "fig1d_collinear"])
 def test_fig1_collinear_joints_are_cspace_singularities(name):
-    """Park & Kim Fig. 1, eq. (8): all five joints collinear, rank ∇Φ < 3. (004's conditions call
+    """Park & Kim Fig. 1, eq. (8): all five joints collinear, rank ∇Φ < 3. (Chablat, Wenger & Angeles 1998's conditions call
     these both A- and B-singular; in the G-A correspondence a C-space singularity is type III.)"""
     report = named_report(name)
     assert report.cspace.rank == 2 and report.cspace.expected_rank == 3
@@ -127,7 +127,7 @@ def test_fig1_collinear_joints_are_cspace_singularities(name):
 
 
 def test_fig6a_distal_links_aligned_is_a_nondegenerate_actuator_singularity():
-    """Park & Kim Fig. 6a: locked, the linkage is a structure (004 eq. 9: θ3 − θ4 = π)."""
+    """Park & Kim Fig. 6a: locked, the linkage is a structure (Chablat, Wenger & Angeles 1998, eq. 9: θ3 − θ4 = π)."""
     report = named_report("fig6a_distal_aligned")
     assert report.actuator.rank == 1 and report.actuator.expected_rank == 2
     assert report.degeneracy == "nondegenerate"
@@ -136,7 +136,7 @@ def test_fig6a_distal_links_aligned_is_a_nondegenerate_actuator_singularity():
 @pytest.mark.parametrize("name", ["fig6b_elbows_coincide", "sec34_elbows_coincide"])
 def test_coincident_elbows_are_degenerate_actuator_singularities(name):
     """Park & Kim Fig. 6b: "the middle two links are free to rotate about the two overlapping
-    joints"; 004 Sec. 3.4: "Each configuration where points C and D coincide leads to a
+    joints"; Chablat, Wenger & Angeles 1998, Sec. 3.4: "Each configuration where points C and D coincide leads to a
     singularity where the position of point P is not controllable" (θ3 − θ4 = 0, eq. 9)."""
     report = named_report(name)
     assert report.degeneracy == "degenerate"
@@ -176,11 +176,11 @@ def test_the_link_carrying_p_does_not_change_the_kinds(end_effector):
     assert report.kinds == ("actuator", "end_effector")
 
 
-# ----------------------------------------------------------------------------- 004's conditions
+# ----------------------------------------------------------------------------- Chablat, Wenger & Angeles 1998's conditions
 
 @pytest.mark.parametrize("mode", WORKING_MODES)
 def test_each_working_mode_builds_and_is_regular(mode):
-    """004 Sec. 3.3, Fig. 2: the four inverse-kinematics solutions of one generic P = (3, 7)."""
+    """Chablat, Wenger & Angeles 1998, Sec. 3.3, Fig. 2: the four inverse-kinematics solutions of one generic P = (3, 7)."""
     name = f"fig2_working_mode_{mode.replace('+', 'p').replace('-', 'm')}"
     mechanism = ENTRY.mechanism(name)
     assert working_mode(mechanism) == mode
@@ -190,7 +190,7 @@ def test_each_working_mode_builds_and_is_regular(mode):
 
 
 def _on_actuator_locus(rng):
-    """θ3 − θ4 = π: |CD| = 2 L2 (004 eq. 9, k odd), C at a random θ1."""
+    """θ3 − θ4 = π: |CD| = 2 L2 (Chablat, Wenger & Angeles 1998, eq. 9, k odd), C at a random θ1."""
     while True:
         theta1 = rng.uniform(-math.pi, math.pi)
         c = (8.0 * math.cos(theta1), 8.0 * math.sin(theta1))
@@ -237,7 +237,7 @@ def _samples():
 
 @pytest.mark.parametrize("locus, inputs", _samples())
 def test_kinds_agree_with_the_004_conditions_across_the_workspace(locus, inputs):
-    """004 eqs. (9)-(13): singular exactly when θ3 − θ4 = kπ (A: actuator) or θ3 − θ1 = kπ,
+    """Chablat, Wenger & Angeles 1998, eqs. (9)-(13): singular exactly when θ3 − θ4 = kπ (A: actuator) or θ3 − θ1 = kπ,
     θ4 − θ2 = kπ (B: end_effector); checked at seeded samples on each locus and off them."""
     mechanism = five_bar(**inputs)
     expected = predicted_kinds(mechanism)
@@ -248,7 +248,7 @@ def test_kinds_agree_with_the_004_conditions_across_the_workspace(locus, inputs)
 @pytest.mark.parametrize("name, step", [("eq3c_left_leg_stretched", -0.1), ("eq3c_left_leg_folded", 0.1),
                                         ("eq3c_right_leg_stretched", -0.1), ("eq3c_right_leg_folded", 0.1)])
 def test_near_the_inverse_kinematic_singularities_is_regular(name, step):
-    """004 eq. (3c): moving P off the circle |P − base| = L1 ± L2, in the same working mode."""
+    """Chablat, Wenger & Angeles 1998, eq. (3c): moving P off the circle |P − base| = L1 ± L2, in the same working mode."""
     point = {joint.name: joint.point for joint in ENTRY.mechanism(name).joints}
     base = point["A"] if "left" in name else point["B"]
     radial = np.subtract(point["P"], base)
@@ -258,7 +258,7 @@ def test_near_the_inverse_kinematic_singularities_is_regular(name, step):
 
 
 def test_the_direct_kinematic_singularity_bounds_the_joint_space():
-    """004 Sec. 3.1: "Such singularities occur at the boundary of the Joint space": past the
+    """Chablat, Wenger & Angeles 1998, Sec. 3.1: "Such singularities occur at the boundary of the Joint space": past the
     locus θ3 − θ4 = π the loop cannot close, and just inside it both assemblies are regular."""
     values = ENTRY.values("eq9_distal_aligned")
     outcomes = {}
@@ -274,7 +274,7 @@ def test_the_direct_kinematic_singularity_bounds_the_joint_space():
 
 
 def test_equations_3_hold_by_finite_differences():
-    """004 eq. (3a): A ṗ = B θ˙ with A, B of eqs. (3b)-(3c), checked against central differences
+    """Chablat, Wenger & Angeles 1998, eq. (3a): A ṗ = B θ˙ with A, B of eqs. (3b)-(3c), checked against central differences
     of the closed-form direct kinematics at seeded generic inputs (validates our angle reading)."""
     rng = np.random.default_rng(7)
     step = 1e-6

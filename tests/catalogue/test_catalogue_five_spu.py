@@ -139,13 +139,15 @@ QUARTIC_CASES = quartic_cases()
 
 @pytest.fixture(scope="module")
 def surveys():
-    """One survey per design (largest ranks of DΦ, G, J on M), computed at the design's default pose."""
+    """One survey per design (largest ranks of DΦ, G, J on M), computed at the design's default pose, with
+    the tool's spin locked (Section I): with it free, a pose end-effector makes the design
+    architecturally singular (test_named_configurations)."""
     cache = {}
 
     def of(design_name):
         if design_name not in cache:
             design = QUARTIC_DESIGN if design_name == "quartic" else QUADRATIC_DESIGNS[design_name]
-            start = five_spu(**design, **pose((1.0, 0.5, 3.0), (0.3, -0.2, 1.0)))
+            start = five_spu(**design, **pose((1.0, 0.5, 3.0), (0.3, -0.2, 1.0)), spin="locked")
             cache[design_name] = survey(model_of(start), np.random.default_rng(0))
         return cache[design_name]
 
@@ -157,7 +159,7 @@ def surveys():
 @pytest.mark.parametrize("name", sorted(ENTRY.configurations))
 def test_every_named_configuration_builds(name):
     """Every preset of the ``5-spu`` entry assembles: 5 actuated legs, S centres at aᵢ = (xᵢ, yᵢ, 0),
-    U (or R) centres at bᵢ = p + zᵢ i on the platform line (003_…txt Section II, Fig. 2)."""
+    U (or R) centres at bᵢ = p + zᵢ i on the platform line (Borràs, Thomas & Torras 2011 Section II, Fig. 2)."""
     mechanism = ENTRY.mechanism(name)
     values = ENTRY.values(name)
     assert isinstance(mechanism, Mechanism)
@@ -185,7 +187,7 @@ def test_default_design_is_quadratically_solvable():
 
 
 NAMED = {
-    # name: (kinds, actuator rank, degeneracy)
+    # name: (the paper's kinds, actuator rank, degeneracy) with the spin locked
     "regular": ((), 5, None),
     "regular_locked": ((), 5, None),
     "eq33_w_zero": (("actuator",), 4, "nondegenerate"),
@@ -199,43 +201,50 @@ NAMED = {
 
 @pytest.mark.parametrize("name", sorted(NAMED))
 def test_named_configurations(name):
-    """003_…txt eq. (33) (w = 0; δ w pₓ − (δu − 1) p_z = 0), eq. (35) (tool ⟂ base: δ pₓ + p_z = 0),
-    Section III-C (Λ on Π: the trivial singularity, two leg wrenches lost). Both factors are folds
-    where two assembly modes of (29)/(31)-(32) merge (Δ = 0, Section V-B), i.e. nondegenerate —
-    with the spin locked, and with it free (the test then runs on a slice transverse to the spin).
-    Section I, Fig. 1: five controllable dof and a free rotation about the tool line, unless one
-    aligned revolute is blocked: m = 6 with G of rank 5 everywhere (one idle freedom), or m = 5."""
+    """Borràs, Thomas & Torras 2011 eq. (33) (w = 0; δ w pₓ − (δu − 1) p_z = 0), eq. (35) (tool ⟂ base:
+    δ pₓ + p_z = 0), Section III-C (Λ on Π: the trivial singularity, two leg wrenches lost). Both factors
+    are folds where two assembly modes of (29)/(31)-(32) merge (Δ = 0, Section V-B), i.e.
+    nondegenerate — with the spin locked (Section I: one aligned revolute blocked, m = 5).
+
+    With the spin free (m = 6, Fig. 1) and the platform *pose* as end-effector, the spin is a
+    locked-actuator freedom that moves the end-effector everywhere on M: not idle but an architecture
+    singularity (docs/design.rst, "The three kinds"), so every configuration is a degenerate actuator
+    singularity, flagged as such — until the end-effector is the tool's axis alone."""
     kinds, rank, degeneracy = NAMED[name]
     values = ENTRY.values(name)
     assert (abs(singularity_polynomial(**values)) < 1e-9) == bool(kinds)  # the preset is where the paper says
     report = classified(ENTRY.mechanism(name))
-    assert report.kinds == kinds
     assert report.actuator.rank == rank
-    assert report.degeneracy == degeneracy
-    locked = values["spin"] == "locked"
-    assert (report.dof, report.idle_freedoms) == ((5, 0) if locked else (6, 1))
-    # the free spin turns the platform frame: an idle freedom that moves the (pose) end-effector
-    assert report.moving_idle_freedoms == report.idle_freedoms
     assert report.survey["actuator_rank"] == 5
     assert report.end_effector.rank == report.dof  # the platform pose follows every motion, the spin included
+    assert report.idle_freedoms == 0
+    if values["spin"] == "locked":
+        assert report.dof == 5 and not report.architecture_singular
+        assert report.kinds == kinds
+        assert report.degeneracy == degeneracy
+    else:
+        assert report.dof == 6 and report.architecture_singular and report.moving_idle_freedoms == 1
+        assert report.kinds == ("actuator",)
+        assert report.degeneracy == "degenerate"
+        assert report.to_dict()["architecture_singular"] is True
 
 
 @pytest.mark.parametrize("factor", ["eq33_w_zero", "eq33_second_factor"])
-def test_the_free_spin_does_not_change_the_second_order_verdict(factor):
-    """Locking the spin (Section I) removes the idle freedom but not the singularity: the free
-    spin's second-order test, run on a slice transverse to the spin, matches the locked one."""
+def test_the_free_spin_is_the_self_motion_of_the_architecture_singularity(factor):
+    """The free spin's certificate is a motion of the tool about its own line: the platform's ball
+    joints turn, the legs (actuators) stay locked; locking the spin leaves the paper's verdict."""
     free = classified(ENTRY.mechanism(factor))
     locked = classified(ENTRY.mechanism(factor + "_locked"))
-    assert free.degeneracy == locked.degeneracy == "nondegenerate"
-    assert any("slice" in note for note in free.notes)
-    assert free.second_order.smallest == pytest.approx(locked.second_order.smallest, rel=0.05)
+    assert locked.degeneracy == "nondegenerate" and free.degeneracy == "degenerate"
+    motion = free.second_order.self_motion
+    assert motion.distance >= 0.1 and motion.largest_residual < 1e-9
 
 
 # ----------------------------------------------------------------------------- the paper's polynomials
 
 @pytest.mark.parametrize("case", sorted(QUADRATIC_CASES))
 def test_eq33_factors_are_eq17_and_the_dependence_of_the_leg_lines(case):
-    """003_…txt (17) with the cofactors (27) is −δ²F · w · [δ w pₓ − (δu − 1) p_z] (33), and it
+    """Borràs, Thomas & Torras 2011 (17) with the cofactors (27) is −δ²F · w · [δ w pₓ − (δu − 1) p_z] (33), and it
     vanishes exactly when the five leg lines are linearly dependent (independent Plücker model)."""
     values = dict(ENTRY.values(), **QUADRATIC_CASES[case])
     c1 = cofactors(*design_of(values))[0]
@@ -251,27 +260,27 @@ def test_eq33_factors_are_eq17_and_the_dependence_of_the_leg_lines(case):
 @pytest.mark.parametrize("design", sorted(QUADRATIC_DESIGNS))
 @pytest.mark.parametrize("case", sorted(QUADRATIC_CASES))
 def test_actuator_singularities_are_the_eq33_factors(design, case, surveys):
-    """003_…txt eq. (33), Section V-B: on a quadratically solvable design (zᵢ = δ xᵢ, eq. 26) the
+    """Borràs, Thomas & Torras 2011 eq. (33), Section V-B: on a quadratically solvable design (zᵢ = δ xᵢ, eq. 26) the
     parallel singularities are w = 0 and δ w pₓ − (δu − 1) p_z = 0, whatever the attachments
     (the "rearranged" design moves the base attachments along their B-lines, Section III-B).
     Seeded random poses, poses put on each factor, and poses 0.1 off it: the classifier reports an
     actuator singularity (and nothing else) exactly on the factors' zero sets."""
-    values = dict(ENTRY.values(), **QUADRATIC_DESIGNS[design], **QUADRATIC_CASES[case])
+    values = dict(ENTRY.values(), **QUADRATIC_DESIGNS[design], **QUADRATIC_CASES[case], spin="locked")
     on_factors = values["w"] == 0.0 or abs(second_factor(values)) < 1e-9 * (1 + abs(values["p_x"]))
     assert on_factors == (case.startswith("w_zero") or case.startswith("second_factor"))
     report = classified(five_spu(**values), surveys(design))
     assert report.kinds == (("actuator",) if on_factors else ())
     assert report.actuator.rank == (4 if on_factors else 5)
-    assert report.dof == 6 and report.idle_freedoms == 1
+    assert report.dof == 5 and report.idle_freedoms == 0 and not report.architecture_singular
 
 
 @pytest.mark.parametrize("case", sorted(QUARTIC_CASES))
 def test_actuator_singularities_of_a_quartic_design_are_the_zeros_of_eq17(case, surveys):
-    """003_…txt eq. (17) for a generic (quartic, B finite) design: seeded random poses, poses put on
+    """Borràs, Thomas & Torras 2011 eq. (17) for a generic (quartic, B finite) design: seeded random poses, poses put on
     the zero set of (17) by solving it for pₓ, poses 0.1 off it; and with w = 0, eq. (20): singular
     only when Λ is parallel to B∞, i.e. i ∝ (C₅, −C₄, 0) — unlike the quadratic family, where
     every w = 0 is singular."""
-    values = dict(ENTRY.values(), **QUARTIC_DESIGN, **QUARTIC_CASES[case])
+    values = dict(ENTRY.values(), **QUARTIC_DESIGN, **QUARTIC_CASES[case], spin="locked")
     scale = np.linalg.norm(cofactors(*design_of(values))) * (1 + np.linalg.norm(
         [values["p_x"], values["p_y"], values["p_z"]])) ** 2
     on_zero_set = abs(singularity_polynomial(**values)) < 1e-9 * scale

@@ -127,9 +127,10 @@ def test_eq87_design_is_architecturally_singular():
     """Beyond the paper: with θ = η (similar base and platform hexagons) det A (eq. 81) vanishes at
     every pose — an architecture singularity — and with the legs locked at a generic pose the
     platform still moves (a 1-dof self-motion: poses 0.2 away with the same cᵢ, eq. 75, found
-    independently by least squares). The classifier sees rank G ≤ 5 all over M and reports it as
-    one idle freedom — one that moves the end-effector, the mark of an architecture singularity —;
-    at a generic pose nothing more is singular."""
+    independently by least squares). The classifier sees rank G ≤ 5 all over M while the stacked map
+    (G; J) reaches 6: a locked-actuator freedom that moves the end-effector, which is not idle
+    (docs/design.rst, "The three kinds"): every pose is a degenerate actuator singularity, flagged as
+    an architecture singularity."""
     pose = {"x": 0.3, "y": -0.2, "z": 0.8, "rotation_x": 0.4, "rotation_y": -0.3, "rotation_z": 0.5}
     direct, lengths = paper_matrices("eq87_parallel_legs", **pose)
     assert relative_singular_values(direct)[-1] < 1e-14 and relative_singular_values(direct)[-2] > 1e-3
@@ -144,23 +145,25 @@ def test_eq87_design_is_architecturally_singular():
                              gtol=1e-15)
     assert np.max(np.abs(leg_residual(solution.x, start))) < 1e-12
     report = classified(ENTRY.mechanism("eq87_parallel_legs", **pose))
-    assert report.idle_freedoms == 1 and report.actuator.rank == 5
-    assert report.moving_idle_freedoms == 1
+    assert report.idle_freedoms == 0 and report.moving_idle_freedoms == 1 and report.architecture_singular
+    assert report.kinds == ("actuator",)
+    assert (report.actuator.rank, report.actuator.expected_rank) == (5, 6)
+    assert report.degeneracy == "degenerate"
     assert any("architecture singularity" in note for note in report.notes)
-    assert report.kinds == ()
+    assert report.to_dict()["architecture_singular"] is True
+    assert "ARCHITECTURE SINGULARITY" in report.to_text()
 
 
 def test_a_generic_design_has_no_idle_freedom():
     report = classified(ENTRY.mechanism())
-    assert report.idle_freedoms == 0 and report.moving_idle_freedoms == 0
+    assert report.idle_freedoms == 0 and report.moving_idle_freedoms == 0 and not report.architecture_singular
 
 
 def test_eq87_equal_legs_are_a_degenerate_actuator_singularity():
     """G-A eq. (87): kind III, "motions of a finite amplitude even if the actuators are locked"
-    (verified from eqs. 75-78 in the test above) ↔ a degenerate actuator singularity. The design's
-    architectural freedom counts as idle, so the second-order test runs on a slice transverse to
-    it and certifies a self-motion beyond the architectural one."""
+    (verified from eqs. 75-78 in the test above) ↔ a degenerate actuator singularity, with a
+    certified self-motion."""
     report = classified(ENTRY.mechanism("eq87_parallel_legs"))
-    assert report.degeneracy == "degenerate"
+    assert report.degeneracy == "degenerate" and report.architecture_singular
     motion = report.second_order.self_motion
     assert motion.distance >= 0.1 and motion.largest_residual < 1e-9

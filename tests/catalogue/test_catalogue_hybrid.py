@@ -1,7 +1,7 @@
 """Three-dof hybrid manipulator: Chablat, Wenger & Angeles (1998) Fig. 6,
 eqs. (14)-(30).
 
-The 004 conditions are evaluated from the joint centres of the built mechanism, independently of
+The Chablat, Wenger & Angeles 1998 conditions are evaluated from the joint centres of the built mechanism, independently of
 the classifier: A (eq. 22a) is singular iff θ4 − θ5 = kπ (eqs. 24-25): actuator; B (eq. 22b) iff
 d1 = 0, θ2 = θ4 + kπ or θ3 = θ5 + kπ (eq. 30): end_effector.
 """
@@ -18,7 +18,7 @@ from mechanisms.catalogue.five_bar import WORKING_MODES, circle_intersection, fi
 from mechanisms.catalogue.hybrid import ENTRIES, hybrid, hybrid_points
 
 (ENTRY,) = ENTRIES
-PROXIMAL, DISTAL = 8.0, 5.0  # L1, L2 of 004 Sec. 3.4 (L0 = 6)
+PROXIMAL, DISTAL = 8.0, 5.0  # L1, L2 of Chablat, Wenger & Angeles 1998, Sec. 3.4 (L0 = 6)
 EXPECTED_KINDS = {
     "regular": (),
     "eq30_on_the_axis": ("end_effector",),
@@ -42,7 +42,7 @@ def plane_coordinates(mechanism):
 
 
 def angles(mechanism):
-    """004's θ2..θ5 of the hybrid (from AB, in the five-bar's plane) and d1 (eq. 27)."""
+    """Chablat, Wenger & Angeles 1998's θ2..θ5 of the hybrid (from AB, in the five-bar's plane) and d1 (eq. 27)."""
     plane = plane_coordinates(mechanism)
 
     def angle(vector):
@@ -71,7 +71,7 @@ def named_report(name):
 
 @pytest.mark.parametrize("name", EXPECTED_KINDS)
 def test_named_configurations_build_and_have_the_004_kinds(name):
-    """004 eqs. (25), (30): each named configuration builds, is where its name says (the
+    """Chablat, Wenger & Angeles 1998, eqs. (25), (30): each named configuration builds, is where its name says (the
     conditions hold, checked from the joint centres), and the classifier finds those kinds."""
     mechanism = ENTRY.mechanism(name)
     assert predicted_kinds(mechanism) == EXPECTED_KINDS[name]
@@ -85,7 +85,7 @@ def test_every_named_configuration_is_checked():
 
 
 def test_on_the_axis_the_base_revolute_does_not_move_p():
-    """004 eq. (27), Sec. 5.2: "postures whereby point P lies on the Y axis are singular": the lost
+    """Chablat, Wenger & Angeles 1998, eq. (27), Sec. 5.2: "postures whereby point P lies on the Y axis are singular": the lost
     end-effector direction is the turn of the base revolute."""
     report = named_report("eq30_on_the_axis")
     assert report.end_effector.rank == 2 and report.end_effector.expected_rank == 3
@@ -93,14 +93,14 @@ def test_on_the_axis_the_base_revolute_does_not_move_p():
 
 
 def test_distal_links_aligned_is_a_nondegenerate_actuator_singularity():
-    """004 eq. (25): κ(A) → ∞ at θ4 − θ5 = π; with the inputs locked the manipulator is a structure."""
+    """Chablat, Wenger & Angeles 1998, eq. (25): κ(A) → ∞ at θ4 − θ5 = π; with the inputs locked the manipulator is a structure."""
     report = named_report("eq25_distal_aligned")
     assert report.actuator.rank == 2 and report.actuator.expected_rank == 3
     assert report.degeneracy == "nondegenerate"
 
 
 def test_coincident_elbows_are_a_degenerate_actuator_singularity():
-    """004 eq. (25) with k = 0 (θ4 = θ5: C = D, as in Sec. 3.4): P turns about the elbows."""
+    """Chablat, Wenger & Angeles 1998, eq. (25) with k = 0 (θ4 = θ5: C = D, as in Sec. 3.4): P turns about the elbows."""
     report = named_report("eq25_elbows_coincide")
     assert report.degeneracy == "degenerate"
     assert set(report.to_dict()["actuator"]["second_order"]["self_motion"]["direction"]) == {"C", "D"}
@@ -173,7 +173,7 @@ def _samples():
 
 @pytest.mark.parametrize("locus, inputs", _samples())
 def test_kinds_agree_with_the_004_conditions_across_the_workspace(locus, inputs):
-    """004 eqs. (24)-(25), (30): singular exactly on those loci, with the kinds they predict."""
+    """Chablat, Wenger & Angeles 1998, eqs. (24)-(25), (30): singular exactly on those loci, with the kinds they predict."""
     mechanism = hybrid(**inputs)
     expected = predicted_kinds(mechanism)
     assert (expected == ()) == (locus == "generic")
@@ -181,7 +181,7 @@ def test_kinds_agree_with_the_004_conditions_across_the_workspace(locus, inputs)
 
 
 def test_equation_22_holds_by_finite_differences():
-    """004 eq. (22): A ṗ = B θ˙, A = [L2 nᵀ; (p − c)ᵀ; (p − d)ᵀ] (n: the five-bar's normal, k at
+    """Chablat, Wenger & Angeles 1998, eq. (22): A ṗ = B θ˙, A = [L2 nᵀ; (p − c)ᵀ; (p − d)ᵀ] (n: the five-bar's normal, k at
     θ1 = 0), B = L1 L2 diag(sin θ2 + λ1 sin θ4, sin(θ2 − θ4), sin(θ3 − θ5)), λ1 = L2/L1, checked
     against central differences of the closed-form positions at seeded postures. The signs of the
     last two diagonal entries depend on the sense in which the angles are measured, so those are

@@ -44,15 +44,20 @@ def test_default_configuration_is_regular():
 
 @pytest.mark.parametrize("actuated, kinds", [
     ("135", ("end_effector",)), ("246", ("end_effector",)), ("123", ("end_effector",)),
-    ("16", ("end_effector",)), ("1234", ("end_effector",)),
+    ("1234", ("end_effector",)),
     # locked J4, J5, J6 leave the passive J1, J2, J3 on one line: also an actuator singularity
     ("456", ("actuator", "end_effector")),
+    # two actuators for three freedoms: with J1, J6 locked the third freedom still moves the end-effector,
+    # everywhere on M — not an idle freedom but an architecture singularity (docs/design.rst, "The three
+    # kinds"): every configuration is an actuator singularity
+    ("16", ("actuator", "end_effector")),
 ])
 def test_fig12a_end_effector_on_the_aligned_link_is_singular_whatever_is_actuated(actuated, kinds):
     """Park & Kim Fig. 12a: links 1 and 2 aligned, end-effector on link 2; "regardless of the number
     and choice of joints that are actuated" the end-effector position loses a direction."""
     report = classified(ENTRY.mechanism("fig12a_end_effector", actuated=actuated))
     assert report.kinds == kinds
+    assert report.architecture_singular == (len(actuated) < 3)
     assert report.end_effector.rank == 1 and report.end_effector.expected_rank == 2
 
 

@@ -189,7 +189,7 @@ def test_report_of_catalogue_entries_and_files(capsys):
     assert sources == {"slider-crank", str(EXAMPLES / "slider_crank.yaml")}
     named = {row["configuration_name"]: row["kinds"] for row in rows if row["source"] == "slider-crank"}
     assert named["default"] == [] and named["fig3b_actuator"] == ["actuator"]
-    assert "classifying slider-crank [fig3b_actuator]" in err
+    assert err == ""  # no per-row lines; the progress bar shows only on a terminal
 
 
 def test_report_puts_the_derived_gosselin_angeles_kinds_next_to_park_kim(capsys):
@@ -201,4 +201,81 @@ def test_report_puts_the_derived_gosselin_angeles_kinds_next_to_park_kim(capsys)
     assert comparison["gosselin_angeles"]["kinds"] == ["II"] and comparison["agree"] is True
     assert rows["fig1a_collinear"]["comparison"]["reason"] == "cspace_singularity"
     status, out, _ = run(["report", "five-bar"], capsys)
-    assert "G–A (derived)" in out.splitlines()[0] and "undefined (cspace_singularity)" in out
+    header = next(line for line in out.splitlines() if line.startswith("source "))
+    assert "G–A (derived)" in header and "undefined (cspace_singularity)" in out
+
+
+# ---------------------------------------------------------------- outputs that show their inputs
+
+def test_classify_names_the_catalogue_source_its_parameters_and_joint_values(capsys):
+    arguments = ["classify", "slider-crank", "--configuration", "fig3b_actuator", "--param", "coupler=1.5"]
+    status, out, err = run(arguments + ["--format", "json"], capsys)
+    assert status == 0, err
+    result = json.loads(out)
+    parameters = {"crank": 2.0, "coupler": 1.5, "theta": 0.5235987755982989, "branch": 1, "actuated": "crank",
+                  "end_effector": True}
+    assert result["source"] == {"catalogue": "slider-crank", "parameters": parameters,
+                                "configuration": "fig3b_actuator"}
+    assert result["joint_values"] == {"crank": 0.0, "pin": 0.0, "wrist": 0.0, "slide": 0.0}
+    assert result["configuration"] == {"crank": 0.0, "pin": 0.0, "wrist": 0.0, "slide": 0.0}  # kept
+    status, out, _ = run(arguments, capsys)
+    assert "source: catalogue entry slider-crank, configuration fig3b_actuator" in out
+    assert "coupler = 1.5" in out and "theta = 0.5236" in out
+    assert "joint values" in out and "crank = 0, pin = 0, wrist = 0, slide = 0" in out
+
+
+def test_classify_names_the_file_source_and_its_joint_values(capsys):
+    path = str(EXAMPLES / "five_bar.yaml")
+    named = configuration("five_bar.yaml", "fig6a_distal_aligned")
+    arguments = ["classify", path, "--configuration", "fig6a_distal_aligned"]
+    status, out, err = run(arguments + ["--format", "json"], capsys)
+    assert status == 0, err
+    result = json.loads(out)
+    assert result["source"] == {"file": path, "configuration": "fig6a_distal_aligned"}
+    assert result["joint_values"] == pytest.approx(named)
+    status, out, _ = run(arguments, capsys)
+    assert f"source: file {path}, configuration fig6a_distal_aligned" in out
+    assert f"J1 = {named['J1']:.4g}" in out
+    status, out, _ = run(["classify", path, "--at", json.dumps(named), "--format", "json"], capsys)
+    assert json.loads(out)["source"] == {"file": path, "configuration": None, "at": named}
+
+
+def _has_raw_control(text):
+    """Whether the text holds a non-printable character other than the line breaks between its lines."""
+    return any(not line.isprintable() for line in text.split("\n"))
+
+
+def test_text_output_escapes_control_characters_in_names():
+    """An ESC sequence or a newline in a name is printed escaped; JSON keeps the exact name."""
+    from dataclasses import replace
+
+    import numpy as np
+
+    from classify import classify, compare
+    from classify.cli.report_command import ReportRow, report_table
+    from classify.comparison import comparison_row
+    from classify.model import model_of
+    from classify.report import printable
+    from mechanisms import EndEffector, Joint, Mechanism, home
+
+    colour, forged = "J\u001b[31m", "J\nclosedchain: error: forged"
+    mechanism = Mechanism("five\u0000bar", "planar", [
+        Joint("J1", "R", ("ground", "proximal1"), point=(0, 0), actuated=True),
+        Joint(colour, "R", ("proximal1", "distal1"), point=(0, 1)),
+        Joint(forged, "R", ("distal1", "distal2"), point=(1, 1)),
+        Joint("J4", "R", ("distal2", "proximal2"), point=(2, 1)),
+        Joint("J5", "R", ("proximal2", "ground"), point=(2, 0), actuated=True),
+    ], end_effector=EndEffector("distal1", (1, 1), "position"))
+    point = home(mechanism)
+    report = classify(mechanism, point, rng=np.random.default_rng(0))
+    report = replace(report, source={"file": "a\u001b]0;title\u0007.yaml", "configuration": "x\ny"})
+    text = report.to_text()
+    assert "lost direction" in text and not _has_raw_control(text)
+    assert printable(colour) in text and printable(forged) in text and "\\x00" in text
+    assert not any(line.startswith("closedchain: error") for line in text.splitlines())
+    comparison = compare(mechanism, [point], labels=["home\u001b[2J"], rng=np.random.default_rng(0))
+    assert not _has_raw_control(comparison.to_text(source=report.source))
+    row = ReportRow("a\u001b[31m.yaml", "x\ny", report, comparison_row(model_of(mechanism), point, report, "x\ny"))
+    assert not _has_raw_control(report_table([row]))
+    exact = json.loads(json.dumps(report.to_dict()))
+    assert exact["mechanism"] == "five\u0000bar" and colour in exact["joint_values"] and forged in exact["configuration"]

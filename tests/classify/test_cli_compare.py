@@ -24,7 +24,7 @@ def test_compare_json_follows_the_issue(capsys):
     assert status == 0, err
     result = json.loads(out)
     rows = result["configurations"]
-    assert [row["configuration"] for row in rows][0] == "home" and len(rows) == 3
+    assert [row["configuration"] for row in rows][0] == "fig3b_actuator" and len(rows) == 3
     for row in rows:
         assert {"park_kim", "gosselin_angeles", "agree", "note"} <= set(row)
         assert {"kinds", "rank_A", "rank_B", "n"} <= set(row["gosselin_angeles"])
@@ -84,3 +84,33 @@ def test_compare_with_the_papers_relation(capsys):
 def test_compare_input_errors_exit_2_with_one_line(arguments, fragment, capsys):
     status, out, err = run(arguments, capsys)
     assert status == 2 and fragment in err and len(err.strip().splitlines()) == 1 and not out
+
+
+# ---------------------------------------------------------------- rows named by their configuration, the source
+
+def test_compare_labels_rows_by_configuration_and_samples_only_when_asked(capsys):
+    path = str(EXAMPLES / "five_bar.yaml")
+    arguments = ["compare", path, "--configuration", "fig6a_distal_aligned", "--at", "{}"]
+    status, out, err = run(arguments + ["--format", "json"], capsys)
+    assert status == 0, err
+    result = json.loads(out)
+    assert [row["configuration"] for row in result["configurations"]] == ["fig6a_distal_aligned", "at1"]
+    assert result["source"] == {"file": path, "configuration": "fig6a_distal_aligned"}
+    assert result["configurations"][0]["park_kim"]["joint_values"]["J1"] != 0.0
+    status, out, _ = run(arguments + ["--samples", "1", "--format", "json"], capsys)
+    assert [row["configuration"] for row in json.loads(out)["configurations"]][-1] == "sample1"
+    status, out, _ = run(arguments, capsys)
+    assert f"source: file {path}, configuration fig6a_distal_aligned" in out
+    assert "joint values (displacements from home):" in out and "\n  at1: J1 = " in out
+    assert "\nfig6a_distal_aligned  actuator (nondegenerate)" in out and "\nhome " not in out
+
+
+def test_compare_of_a_catalogue_entry_names_its_parameters(capsys):
+    status, out, err = run(["compare", "slider-crank", "--configuration", "fig3c_dead_centre", "--outputs", "slide",
+                            "--path", "1", "--format", "json"], capsys)
+    assert status == 0, err
+    result = json.loads(out)
+    assert result["source"]["catalogue"] == "slider-crank" and result["source"]["parameters"]["theta"] == 0.0
+    labels = [row["configuration"] for row in result["configurations"]]
+    assert "fig3c_dead_centre" in labels and "home" not in labels and not any(label.startswith("sample")
+                                                                              for label in labels)

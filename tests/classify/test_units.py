@@ -1,0 +1,71 @@
+"""No verdict depends on the unit of length (docs/design.rst, "Metrics").
+
+Every catalogue mechanism, at its default and at every named configuration, drawn with all lengths
+×1e-6, ×1e-3, ×1e3 or ×1e6 (:func:`mechanisms.scale_lengths`; the factors cycle over the
+configurations) is classified exactly as drawn in the catalogue's unit: same kinds, degeneracy,
+dof, ranks, expected ranks, idle freedoms and architecture flag, and the same relative margins (every
+decision is taken on dimensionless maps). Actuator weights do not decide either.
+"""
+
+import dataclasses
+import itertools
+
+import numpy as np
+import pytest
+
+from classify import classify
+from mechanisms import Mechanism, catalogue, home, scale_lengths
+
+FACTORS = (1e-6, 1e-3, 1e3, 1e6)
+CASES = [(item.name, name) for item in catalogue.entries() for name in (None, *item.configurations)]
+SCALED = [(name, configuration, factor) for (name, configuration), factor in zip(CASES, itertools.cycle(FACTORS))]
+
+
+def classified(mechanism):
+    return classify(mechanism, home(mechanism), rng=np.random.default_rng(0))
+
+
+def decided_values(result):
+    """The singular values of a decision that are not rounding noise, relative to the cut's scale."""
+    values = np.asarray(result.decision.singular_values)
+    reference = result.decision.tolerance / 1e-6  # the decision's scale (the cut is rtol · scale)
+    return values[values > 1e-8 * reference] / reference
+
+
+def assert_same_verdict(first, second):
+    assert first.kinds == second.kinds
+    assert first.degeneracy == second.degeneracy
+    assert (first.dof, first.idle_freedoms, first.architecture_singular) == \
+        (second.dof, second.idle_freedoms, second.architecture_singular)
+    for kind in ("cspace", "actuator", "end_effector"):
+        a, b = getattr(first, kind), getattr(second, kind)
+        assert (a is None) == (b is None), kind
+        if a is None:
+            continue
+        assert (a.rank, a.expected_rank) == (b.rank, b.expected_rank), kind
+        np.testing.assert_allclose(decided_values(a), decided_values(b), rtol=1e-6, err_msg=kind)
+    assert (first.manipulability is None) == (second.manipulability is None)
+
+
+@pytest.mark.parametrize("name, configuration, factor", SCALED)
+def test_a_change_of_length_unit_changes_no_verdict(name, configuration, factor):
+    mechanism = catalogue.entry(name).mechanism(configuration)
+    assert_same_verdict(classified(mechanism), classified(scale_lengths(mechanism, factor)))
+
+
+def test_scaling_multiplies_every_length():
+    mechanism = catalogue.entry("slider-crank").mechanism()
+    scaled = scale_lengths(mechanism, 1e6)
+    assert scaled.characteristic_length == pytest.approx(1e6 * mechanism.characteristic_length, rel=1e-12)
+    with pytest.raises(ValueError, match="positive finite"):
+        scale_lengths(mechanism, 0.0)
+
+
+@pytest.mark.parametrize("weight", [1e-12, 1e-6, 1e6, 1e12])
+def test_actuator_weights_change_no_verdict(weight):
+    """E's weights scale the manipulability values, never a rank: G = Tᵀ E T has the kernel of Dπ T."""
+    mechanism = catalogue.entry("five-bar").mechanism("fig6a_distal_aligned")
+    weighted = Mechanism(mechanism.name, mechanism.space,
+                         [dataclasses.replace(joint, weight=weight) if joint.actuated else joint
+                          for joint in mechanism.joints], mechanism.ground, mechanism.end_effector)
+    assert_same_verdict(classified(mechanism), classified(weighted))
