@@ -84,6 +84,8 @@ def classify(mechanism, point, survey=None, rng=None, rtol=DEFAULT_RTOL, length_
     k = manifold.ambient.dim
     scales = manifold.ambient.tangent_scales
     notes = []
+    if np.shape(manifold.constraint(point))[-1] == 0:
+        notes.append("no loop: an open (serial) chain, M is all of K; check the joints' links if a loop was meant")
 
     # C-space: rank of DΦ at p against the rank on M near p (dimensionless: DΦ·diag(s))
     basis, constraint_decision = tangent_basis(manifold, point, rtol=rtol)

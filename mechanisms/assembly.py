@@ -524,7 +524,10 @@ def _not_isolated(problem):
                          f"still move, so they have no branch numbers (hold more joints)")
 
 
-def _no_assembly(problem, smallest):
+def _no_assembly(problem, smallest, tolerance=1e-10):
+    if math.isfinite(smallest) and smallest <= tolerance:
+        return AssemblyError(f"no assembly with {problem.description}: the loops cannot close (the only zeros of "
+                             f"the loop equations found close a loop with a half-turn)")
     residual = f"{smallest:.3g}" if math.isfinite(smallest) else "not finite"
     return AssemblyError(f"no assembly with {problem.description}: the loops cannot close "
                          f"(smallest residual {residual})")

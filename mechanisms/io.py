@@ -269,18 +269,22 @@ def read_text_file(path, limit=FILE_SIZE_LIMIT):
         descriptor = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
     except (OSError, ValueError) as error:
         raise MechanismError(_one_line(f"{path}: cannot read the file: {_os_reason(error)}")) from None
-    with os.fdopen(descriptor, "rb") as handle:
-        mode, size = _file_status(handle.fileno())
+    try:
+        mode, size = _file_status(descriptor)
         if not stat.S_ISREG(mode):
             raise MechanismError(_one_line(f"{path}: cannot read the file: it is {_file_kind(mode)}, "
                                            f"not a regular file"))
         if size > limit:
             raise MechanismError(_one_line(f"{path}: the file is too large: {size} bytes "
                                            f"(the limit is {limit} bytes)"))
-        try:
+        with os.fdopen(descriptor, "rb") as handle:
+            descriptor = None
             data = handle.read(limit + 1)
-        except OSError as error:
-            raise MechanismError(_one_line(f"{path}: cannot read the file: {_os_reason(error)}")) from None
+    except OSError as error:
+        raise MechanismError(_one_line(f"{path}: cannot read the file: {_os_reason(error)}")) from None
+    finally:
+        if descriptor is not None:
+            os.close(descriptor)
     if len(data) > limit:
         raise MechanismError(_one_line(f"{path}: the file is too large: more than {limit} bytes "
                                        f"(the limit)"))
@@ -400,7 +404,7 @@ def loads(text, format="yaml", source="mechanism text"):
         raise MechanismError(f"{source}: unknown format {format!r} (expected 'yaml' or 'json')")
     if not isinstance(text, str):
         raise MechanismError(f"{source}: expected text, got {type(text).__name__}")
-    data = _parse_yaml(text, source) if format == "yaml" else _parse_json(text, source)
+    data = _parse_yaml(text, source) if format == "yaml" else parse_json(text, source)
     return _document_from_dict(data, source)
 
 
@@ -711,15 +715,78 @@ _CORE_RESOLVERS = (
 )
 
 
-class _Loader(yaml.SafeLoader):
-    """``yaml.SafeLoader`` with YAML 1.2 core scalars and no duplicate keys."""
+_YAML_PREFIX = "tag:yaml.org,2002:"
+#: the explicit tags a mechanism file may use: plain data ("!" is the non-specific tag of a quoted scalar)
+_PLAIN_TAGS = {"!"} | {_YAML_PREFIX + name for name in ("str", "int", "float", "bool", "null", "seq", "map")}
+
+try:  # libyaml's parser: fast, and not recursive however deep the document nests
+    from yaml._yaml import CParser as _EventParser
+except ImportError:  # pragma: no cover - PyYAML built without libyaml
+    _EventParser = None
+
+
+class _Parser(*((_EventParser,) if _EventParser is not None
+                else (yaml.reader.Reader, yaml.scanner.Scanner, yaml.parser.Parser))):
+    """The YAML event parser: libyaml's when PyYAML has it, else PyYAML's own."""
+
+    def __init__(self, stream):
+        if _EventParser is not None:
+            _EventParser.__init__(self, stream)
+        else:  # pragma: no cover - PyYAML built without libyaml
+            yaml.reader.Reader.__init__(self, stream)
+            yaml.scanner.Scanner.__init__(self)
+            yaml.parser.Parser.__init__(self)
+
+
+class _Loader(yaml.composer.Composer, _Parser, yaml.constructor.SafeConstructor, yaml.resolver.Resolver):
+    """A safe loader: YAML 1.2 core scalars, no duplicate keys, plain data only.
+
+    The composer (PyYAML's, in Python, over the events of :class:`_Parser`)
+    refuses anchors and aliases (so no "billion laughs"), every explicit tag
+    but the plain ones, and nesting deeper than :data:`DEPTH_LIMIT`, before
+    anything is constructed; the constructor refuses merge keys.
+    """
+
+    def __init__(self, stream):
+        _Parser.__init__(self, stream)
+        yaml.composer.Composer.__init__(self)
+        yaml.constructor.SafeConstructor.__init__(self)
+        yaml.resolver.Resolver.__init__(self)
+        self._depth = 0
+
+    def compose_node(self, parent, index):
+        event = self.peek_event()
+        if isinstance(event, yaml.AliasEvent):
+            self._refuse(f"found an alias *{event.anchor[:40]}: anchors and aliases are not allowed in a "
+                         f"mechanism file", event)
+        if event.anchor is not None:
+            self._refuse(f"found an anchor &{event.anchor[:40]}: anchors and aliases are not allowed in a "
+                         f"mechanism file", event)
+        tag = getattr(event, "tag", None)
+        if tag is not None and tag not in _PLAIN_TAGS:
+            shown = "!!" + tag[len(_YAML_PREFIX):] if tag.startswith(_YAML_PREFIX) else tag
+            self._refuse(f"found the tag {_describe(shown)}: a mechanism file holds plain data, with no "
+                         f"tags but !!str, !!int, !!float, !!bool, !!null, !!seq and !!map", event)
+        if self._depth >= DEPTH_LIMIT:
+            self._refuse(f"the document nests deeper than {DEPTH_LIMIT} levels", event)
+        self._depth += 1
+        try:
+            return super().compose_node(parent, index)
+        finally:
+            self._depth -= 1
+
+    @staticmethod
+    def _refuse(problem, event):
+        raise yaml.composer.ComposerError(None, None, problem, event.start_mark)
 
     def construct_mapping(self, node, deep=False):
         if isinstance(node, yaml.MappingNode):
             seen = set()
             for key_node, _ in node.value:
                 if key_node.tag == "tag:yaml.org,2002:merge":
-                    continue
+                    raise yaml.constructor.ConstructorError(
+                        None, None, "found a merge key '<<': merge keys are not allowed in a mechanism file",
+                        key_node.start_mark)
                 key = self.construct_object(key_node, deep=True)
                 try:
                     duplicate = key in seen
@@ -735,6 +802,10 @@ class _Loader(yaml.SafeLoader):
 
 def _construct_int(loader, node):
     text = loader.construct_scalar(node)
+    if len(text) > DIGITS_LIMIT:
+        raise yaml.constructor.ConstructorError(
+            None, None, f"an integer of {len(text)} digits is out of range (at most {DIGITS_LIMIT})",
+            node.start_mark)
     if text.startswith("0o"):
         return int(text[2:], 8)
     if text.startswith("0x"):
@@ -788,6 +859,28 @@ class _DuplicateKey(Exception):
     pass
 
 
+class _TooManyDigits(Exception):
+    pass
+
+
+def _json_integer(text):
+    if len(text.lstrip("-")) > DIGITS_LIMIT:
+        raise _TooManyDigits(len(text.lstrip("-")))
+    return int(text)
+
+
+def _nesting_depth_exceeds(data, limit):
+    """Whether lists and mappings nest deeper than `limit` levels in `data` (iteratively)."""
+    pending = [(data, 1)]
+    while pending:
+        value, depth = pending.pop()
+        if isinstance(value, (list, dict)):
+            if depth > limit:
+                return True
+            pending.extend((item, depth + 1) for item in (value.values() if isinstance(value, dict) else value))
+    return False
+
+
 def _json_object(pairs):
     data = {}
     for key, value in pairs:
@@ -797,9 +890,45 @@ def _json_object(pairs):
     return data
 
 
+def parse_json(text, source):
+    """Parse JSON text into plain data, refusing what no mechanism file or displacement needs.
+
+    Duplicate keys, integers of more than :data:`DIGITS_LIMIT` digits and
+    nesting deeper than :data:`DEPTH_LIMIT` levels are refused. ``NaN`` and
+    ``Infinity`` are parsed (the fields that receive them refuse them, naming
+    the field).
+
+    Parameters
+    ----------
+    text : str
+    source : str
+        Where the text came from; it starts every error message.
+
+    Returns
+    -------
+    object
+        Dicts, lists, strings, numbers, booleans and None.
+
+    Raises
+    ------
+    MechanismError
+        ``{source}: cannot parse JSON: {reason}``, one line.
+    """
+    data = _parse_json(text, source)
+    if _nesting_depth_exceeds(data, DEPTH_LIMIT):
+        raise MechanismError(f"{source}: cannot parse JSON: the document nests deeper than {DEPTH_LIMIT} levels")
+    return data
+
+
 def _parse_json(text, source):
     try:
-        return json.loads(text, object_pairs_hook=_json_object)
+        return json.loads(text, object_pairs_hook=_json_object, parse_int=_json_integer)
+    except _TooManyDigits as error:
+        raise MechanismError(f"{source}: cannot parse JSON: an integer of {error.args[0]} digits is out of "
+                             f"range (at most {DIGITS_LIMIT})") from None
+    except RecursionError:
+        raise MechanismError(f"{source}: cannot parse JSON: the document nests deeper than {DEPTH_LIMIT} "
+                             f"levels") from None
     except json.JSONDecodeError as error:
         raise MechanismError(_one_line(f"{source}: cannot parse JSON: {error.msg} at line "
                                        f"{error.lineno}, column {error.colno}")) from None

@@ -280,34 +280,46 @@ def _looks_like(name, candidates):
 
 
 def _known_links(graph, excluded):
-    names = [link for link in graph if link != excluded]
+    names = [link for link in graph if link not in excluded]
     shown = names[:_LISTED_LINKS] + (["..."] if len(names) > _LISTED_LINKS else [])
     return ", ".join(shown)
+
+
+def _joint_of(joints, link):
+    return next(joint.name for joint in joints if link in joint.links)
 
 
 def _check_dangling_links(joints, graph, ground, end_effector):
     """Refuse a link that only one joint names and that nothing uses: probably a misspelt name.
 
     A link joined by a single joint that is neither the ground nor the
-    end-effector's link moves freely and carries nothing. In a mechanism with
-    loops that is refused (a misspelt name has opened a loop, or left a
-    dangling link); in a mechanism without loops (a serial chain or a tree,
-    legitimate) only when the name looks like another link's name that is
-    joined to two joints or more, or is the ground or the end-effector's link.
+    end-effector's link moves freely and carries nothing. It is refused when
+    its name looks like another link's name (``copuler`` and ``coupler``,
+    ``grund`` and ``ground``; names differing only in digits do not count),
+    and in a mechanism with loops whatever its name (a dangling link there is
+    an idle freedom, most likely a misspelt name). A mechanism without loops
+    (a serial chain, a tree) with distinct names is legitimate.
     """
     explained = {ground} | ({end_effector.link} if end_effector is not None else set())
     loops = len(joints) - graph.number_of_nodes() + 1
-    used = {link for link in graph if graph.degree(link) > 1} | explained
+    dangling = [link for link in graph if graph.degree(link) == 1 and link not in explained]
+    used = [link for link in graph if link not in dangling]
     for joint in joints:
         for index, link in enumerate(joint.links):
-            if link in explained or graph.degree(link) > 1:
-                continue
-            candidate = _looks_like(link, used if loops == 0 else graph)
-            if loops == 0 and candidate is None:
-                continue
-            guess = (f"probably a misspelling of {candidate!r}" if candidate is not None
-                     else "probably a misspelt name")
-            raise MechanismError(
-                f"joint {joint.name!r}: field 'links': item {index}: link {link!r} appears in no other joint "
-                f"and is neither the ground nor the end-effector's link: {guess} "
-                f"(known links: {_known_links(graph, link)})")
+            if link in dangling:
+                _refuse_dangling(joints, graph, f"joint {joint.name!r}: field 'links': item {index}", link,
+                                 _looks_like(link, used), _looks_like(link, dangling), loops)
+
+
+def _refuse_dangling(joints, graph, where, link, original, twin, loops):
+    """Raise the message for a dangling link (see :func:`_check_dangling_links`), if it is refused."""
+    alone = "appears in no other joint and is neither the ground nor the end-effector's link"
+    known = f"(known links: {_known_links(graph, {link})})"
+    if original is not None:
+        raise MechanismError(f"{where}: link {link!r} {alone}: probably a misspelling of {original!r} {known}")
+    if twin is not None:
+        raise MechanismError(f"{where}: links {link!r} and {twin!r} (joint {_joint_of(joints, twin)!r}) each "
+                             f"appear in one joint only, and neither is the ground nor the end-effector's link: "
+                             f"one is probably a misspelling of the other {known}")
+    if loops > 0:
+        raise MechanismError(f"{where}: link {link!r} {alone}: probably a misspelt name {known}")

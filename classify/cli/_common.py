@@ -8,15 +8,25 @@ from pathlib import Path
 
 import numpy as np
 
-from mechanisms import catalogue
-from mechanisms.io import read
+from mechanisms import MechanismError, catalogue
+from mechanisms.io import parse_json, read, read_text_file, write_text_file
 
 __all__ = [
-    "MECHANISM_SUFFIXES", "InputError", "Parser", "entry_options", "common_options", "displacements",
-    "check_length_scale", "is_entry", "entry_values", "source", "joint_list", "finite", "dumps",
+    "MECHANISM_SUFFIXES", "COUNT_LIMIT", "SEED_LIMIT", "LENGTH_SCALE_RATIO", "PATH_STEP_RANGE",
+    "InputError", "Parser", "entry_options", "common_options", "displacements",
+    "check_length_scale", "check_count", "check_path_step", "is_entry", "path_exists", "entry_values",
+    "source", "joint_list", "finite", "dumps", "write_output",
 ]
 
 MECHANISM_SUFFIXES = (".yaml", ".yml", ".json")
+#: most configurations a count option (--samples, --path) may ask for
+COUNT_LIMIT = 10_000
+#: largest --seed (NumPy seeds are non-negative integers; 2⁶⁴ − 1 is plenty)
+SEED_LIMIT = 2 ** 64 - 1
+#: --length-scale within this factor of the mechanism's characteristic length, both ways
+LENGTH_SCALE_RATIO = 1e6
+#: --path-step range, in the dimensionless joint coordinates (radians; lengths over the characteristic length)
+PATH_STEP_RANGE = (1e-9, 1.0)
 
 
 class InputError(Exception):
@@ -38,28 +48,61 @@ def entry_options(parser):
                         help="a catalogue parameter (repeatable); see `closedchain catalog NAME`")
 
 
+def _seed(text):
+    """``--seed``: an integer from 0 to :data:`SEED_LIMIT`."""
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected an integer ≥ 0, got {text[:40]!r}") from None
+    if not 0 <= value <= SEED_LIMIT:
+        shown = str(value) if len(str(value)) <= 40 else "a larger integer"
+        raise argparse.ArgumentTypeError(f"expected an integer from 0 to 2**64 - 1, got {shown}")
+    return value
+
+
+def _length_scale(text):
+    """``--length-scale``: a positive finite number (its range is checked against the mechanism)."""
+    try:
+        value = float(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected a positive number, got {text[:40]!r}") from None
+    if not (np.isfinite(value) and value > 0):
+        raise argparse.ArgumentTypeError(f"expected a positive finite number, got {text[:40]}")
+    return value
+
+
 def common_options(parser):
     """``--seed`` and ``--length-scale``."""
-    parser.add_argument("--seed", type=int, default=0, help="seed of the random sampling (default 0)")
-    parser.add_argument("--length-scale", type=float, default=None,
-                        help="length scale of the SE(2)/SE(3) end-effector metric")
+    parser.add_argument("--seed", type=_seed, default=0,
+                        help="seed of the random sampling, an integer ≥ 0 (default 0)")
+    parser.add_argument("--length-scale", type=_length_scale, default=None,
+                        help="length scale of the SE(2)/SE(3) end-effector metric (within a factor 10⁶ of the "
+                             "mechanism's characteristic length)")
 
 
 def displacements(text):
-    """The joint displacements of ``--at JSON|@file.json`` (empty for None)."""
+    """The joint displacements of ``--at JSON|@file.json`` (empty for None).
+
+    The file is a regular UTF-8 file of at most 1 MiB; the JSON may not nest
+    deeper than 20 levels nor hold integers of more than 400 digits
+    (:func:`mechanisms.io.parse_json`). The values are checked against the
+    joints later (:func:`mechanisms.validate_displacements`).
+    """
     if text is None:
         return {}
+    where = "--at"
     if text.startswith("@"):
+        where = f"--at {text[1:]}"
         try:
-            text = Path(text[1:]).read_text()
-        except OSError as error:
-            raise InputError(f"--at: cannot read {text[1:]!r}: {error.strerror}") from None
+            text = read_text_file(text[1:])
+        except MechanismError as error:
+            raise InputError(f"--at: {error}") from None
     try:
-        value = json.loads(text)
-    except json.JSONDecodeError as error:
-        raise InputError(f"--at: invalid JSON: {error.msg} (line {error.lineno}, column {error.colno})") from None
+        value = parse_json(text, where)
+    except MechanismError as error:
+        raise InputError(str(error)) from None
     if not isinstance(value, dict):
-        raise InputError(f"--at: expected a JSON object mapping joint names to displacements, "
+        raise InputError(f"{where}: expected a JSON object mapping joint names to displacements, "
                          f"got {type(value).__name__}")
     return value
 
@@ -87,15 +130,53 @@ def dumps(value):
     return json.dumps(finite(value), indent=2, ensure_ascii=False, allow_nan=False)
 
 
-def check_length_scale(value):
-    """Refuse a non-positive or non-finite ``--length-scale``."""
-    if value is not None and (not np.isfinite(value) or value <= 0):
+def check_length_scale(value, mechanism=None):
+    """Refuse a non-positive or non-finite ``--length-scale``, or one out of range for `mechanism`.
+
+    With a mechanism, the scale must lie within a factor :data:`LENGTH_SCALE_RATIO`
+    of its characteristic length (the default scale): beyond, the rotation
+    and translation parts of the metric differ by more than 10¹² and the
+    proper values say nothing.
+    """
+    if value is None:
+        return
+    if not np.isfinite(value) or value <= 0:
         raise InputError(f"--length-scale: expected a positive finite number, got {value}")
+    if mechanism is None:
+        return
+    length = mechanism.characteristic_length
+    low, high = length / LENGTH_SCALE_RATIO, length * LENGTH_SCALE_RATIO
+    if not low <= value <= high:
+        raise InputError(f"--length-scale: expected a value from {low:.3g} to {high:.3g} (within a factor "
+                         f"{LENGTH_SCALE_RATIO:g} of the characteristic length {length:.3g} of the mechanism), "
+                         f"got {value:g}")
+
+
+def check_count(value, option):
+    """Refuse a count option (``--samples``, ``--path``) below 0 or above :data:`COUNT_LIMIT`."""
+    if not 0 <= value <= COUNT_LIMIT:
+        raise InputError(f"{option}: expected a count ≥ 0 and at most {COUNT_LIMIT}, got {value}")
+
+
+def check_path_step(value):
+    """Refuse a ``--path-step`` outside :data:`PATH_STEP_RANGE` (dimensionless joint coordinates)."""
+    low, high = PATH_STEP_RANGE
+    if not (np.isfinite(value) and low <= value <= high):
+        raise InputError(f"--path-step: expected a step from {low:g} to {high:g} (joint coordinates: radians, "
+                         f"and lengths in units of the mechanism's characteristic length), got {value:g}")
+
+
+def path_exists(text):
+    """Whether a path exists; False for a name no file can have (a NUL byte, too long)."""
+    try:
+        return Path(text).exists()
+    except (OSError, ValueError):
+        return False
 
 
 def is_entry(text):
     """Whether a FILE|NAME argument names a catalogue entry (an existing path always wins)."""
-    return text in catalogue.names() and not Path(text).exists()
+    return text in catalogue.names() and not path_exists(text)
 
 
 def entry_values(item, arguments):
@@ -105,12 +186,23 @@ def entry_values(item, arguments):
 
 
 def source(arguments):
-    """(mechanism, displacements of the named configuration) for FILE or catalogue NAME."""
+    """(mechanism, displacements of the named configuration) for FILE or catalogue NAME.
+
+    A catalogue entry is built with :meth:`mechanisms.catalogue.Entry.assemble` (a
+    ``--param`` that makes no mechanism is an error naming it); ``--length-scale``,
+    when the command has it, is checked against the mechanism (:func:`check_length_scale`).
+    """
+    mechanism, named = _source(arguments)
+    check_length_scale(getattr(arguments, "length_scale", None), mechanism)
+    return mechanism, named
+
+
+def _source(arguments):
     if is_entry(arguments.file):
         item = catalogue.entry(arguments.file)
-        return item.build(**entry_values(item, arguments)), {}
+        return item.assemble(entry_values(item, arguments)), {}
     path = Path(arguments.file)
-    if not path.exists() and path.suffix not in MECHANISM_SUFFIXES:
+    if not path_exists(arguments.file) and path.suffix not in MECHANISM_SUFFIXES:
         raise InputError(f"{arguments.file}: no such file or catalogue entry (see `closedchain catalog`)")
     if arguments.param:
         raise InputError(f"--param: applies to catalogue entries, not to the file {arguments.file}")
@@ -130,3 +222,29 @@ def joint_list(text, where):
     if not all(names):
         raise InputError(f"{where}: expected comma-separated joint names, got {text!r}")
     return names
+
+
+def write_output(path, text, option):
+    """Write a command's output file, reporting every failure as an :class:`InputError`.
+
+    The text is flushed before the function returns, so a full device or
+    disk (``/dev/full``) is reported, not claimed written; a missing folder,
+    a folder, a FIFO nobody reads or a missing permission is refused with the
+    operating system's reason.
+
+    Parameters
+    ----------
+    path : str
+    text : str
+    option : str
+        The option that named the file (``--write``, ``--output``), for the message.
+
+    Raises
+    ------
+    InputError
+        ``{option}: {path}: cannot write the file: {reason}``.
+    """
+    try:
+        write_text_file(path, text)
+    except MechanismError as error:
+        raise InputError(f"{option}: {error}") from None

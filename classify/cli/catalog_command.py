@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import sys
 
-from mechanisms import catalogue
+from mechanisms import MechanismError, catalogue
 from mechanisms.io import save
 
 from ._common import InputError, dumps, entry_options, entry_values
@@ -37,6 +37,14 @@ def _entry_dict(item):
             "configurations": {name: dict(presets) for name, presets in item.configurations.items()}}
 
 
+def _write(mechanism, path, description):
+    """Save the mechanism file; a path that cannot be written is an input error naming --write."""
+    try:
+        save(mechanism, path, description=description)
+    except MechanismError as error:
+        raise InputError(f"--write: {error}") from None
+
+
 def run(arguments, out):
     if arguments.name is None:
         if arguments.write or arguments.param or arguments.configuration:
@@ -54,9 +62,9 @@ def run(arguments, out):
         return
     item = catalogue.entry(arguments.name)
     values = entry_values(item, arguments)
-    mechanism = item.build(**values)
+    mechanism = item.assemble(values)
     if arguments.write:
-        save(mechanism, arguments.write, description=entry_description(item, arguments.configuration, values))
+        _write(mechanism, arguments.write, entry_description(item, arguments.configuration, values))
         print(f"{item.name} written to {arguments.write}", file=sys.stderr)
         return
     if arguments.format == "json":

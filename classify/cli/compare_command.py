@@ -19,7 +19,8 @@ from ..paths import path_configurations, singular_crossings
 from ..report import printable
 from .classify_command import describe_source
 from ._common import (
-    InputError, check_length_scale, common_options, displacements, dumps, entry_options, is_entry, joint_list, source,
+    InputError, check_count, check_length_scale, check_path_step, common_options, displacements, dumps,
+    entry_options, is_entry, joint_list, source,
 )
 
 __all__ = ["add_parser", "run"]
@@ -87,11 +88,9 @@ def _path_rows(model, start, count, step, start_label="home"):
 
 def run(arguments, out):
     check_length_scale(arguments.length_scale)
-    for option in ("samples", "path"):
-        if getattr(arguments, option) < 0:
-            raise InputError(f"--{option}: expected a count ≥ 0, got {getattr(arguments, option)}")
-    if not (np.isfinite(arguments.path_step) and arguments.path_step > 0):
-        raise InputError(f"--path-step: expected a positive number, got {arguments.path_step}")
+    check_count(arguments.samples, "--samples")
+    check_count(arguments.path, "--path")
+    check_path_step(arguments.path_step)
     mechanism, named = source(arguments)
     if arguments.inputs is not None:
         mechanism = actuate(mechanism, joint_list(arguments.inputs, "--inputs"), where="--inputs")

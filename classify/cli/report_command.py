@@ -30,7 +30,9 @@ from ..comparison import REASONS, comparison_row
 from ..model import joint_output_model, model_of
 from ..report import printable
 from ..survey import survey as survey_mechanism
-from ._common import MECHANISM_SUFFIXES, InputError, check_length_scale, common_options, dumps, is_entry
+from ._common import (
+    MECHANISM_SUFFIXES, InputError, check_length_scale, common_options, dumps, is_entry, write_output,
+)
 
 __all__ = ["add_parser", "run", "run_tasks", "report_table", "report_summary", "ReportRow", "JOINT_OUTPUTS",
            "CONFIGURATION_PARAMETERS", "LEGEND"]
@@ -420,5 +422,5 @@ def run(arguments, out):
     if not arguments.output:
         out.write(text + "\n")
         return
-    Path(arguments.output).write_text(text + "\n", encoding="utf-8")
+    write_output(arguments.output, text + "\n", "--output")
     out.write(report_summary(rows, arguments.output) + "\n")

@@ -15,9 +15,14 @@ import math
 from dataclasses import dataclass, field
 from typing import Callable, Mapping
 
+import numpy as np
+
 from ..errors import MechanismError
-from ..joints import is_number
+from ..joints import COORDINATE_LIMIT, check_text, is_number
 from ..mechanism import Mechanism
+
+#: the errors a builder raises when its parameters make no mechanism (besides MechanismError)
+_BUILD_ERRORS = (ValueError, ArithmeticError, np.linalg.LinAlgError)
 
 __all__ = ["Entry", "parse_parameter"]
 
@@ -86,8 +91,36 @@ class Entry:
             For an unknown configuration or parameter, or a parameter with
             which the mechanism cannot be assembled.
         """
-        values = self.values(configuration, **parameters)
-        return self.build(**values)
+        return self.assemble(self.values(configuration, **parameters))
+
+    def assemble(self, values):
+        """The mechanism for a full parameter set (as from :meth:`values`).
+
+        Parameters
+        ----------
+        values : mapping of str to value
+            Every parameter of the builder.
+
+        Returns
+        -------
+        Mechanism
+
+        Raises
+        ------
+        MechanismError
+            When the parameters set away from their defaults make no
+            mechanism (a non-finite, out-of-range or unreachable geometry):
+            one line naming those parameters and the reason.
+        """
+        defaults = self.parameters
+        changed = {name: value for name, value in values.items() if _differs(value, defaults.get(name))}
+        try:
+            return self.build(**values)
+        except _BUILD_ERRORS as error:  # MechanismError included
+            if not changed:
+                raise
+            reason = " ".join((str(error).strip() or type(error).__name__).split())
+            raise MechanismError(f"{self.name} with {_settings(changed)}: cannot be built: {reason}") from None
 
     def values(self, configuration=None, **parameters):
         """The full parameter set: defaults, then the configuration's presets, then `parameters`."""
@@ -103,6 +136,17 @@ class Entry:
             values.update(self.configurations[configuration])
         values.update(parameters)
         return values
+
+
+def _differs(value, default):
+    try:
+        return bool(value != default)
+    except (TypeError, ValueError):  # arrays compare element-wise
+        return True
+
+
+def _settings(values):
+    return ", ".join(f"{name}={value!r}" for name, value in values.items())
 
 
 def parse_parameter(entry, text):
@@ -125,7 +169,7 @@ def parse_parameter(entry, text):
     name, separator, value = text.partition("=")
     name, value = name.strip(), value.strip()
     if not separator or not name:
-        raise MechanismError(f"--param: expected name=value, got {text!r}")
+        raise MechanismError(f"--param: expected name=value, got {text[:40]!r}")
     parameters = entry.parameters
     if name not in parameters:
         raise MechanismError(f"--param {name}: {entry.name} has no parameter {name!r} "
@@ -137,15 +181,24 @@ def parse_parameter(entry, text):
         return name, value.lower() == "true"
     if isinstance(default, int):
         try:
-            return name, int(value)
+            number = int(value)
         except ValueError:
-            raise MechanismError(f"--param {name}: expected an integer, got {value!r}") from None
+            raise MechanismError(f"--param {name}: expected an integer, got {value[:40]!r}") from None
+        return name, _in_range(number, name)
     if is_number(default):
         try:
             number = float(value)
         except ValueError:
-            raise MechanismError(f"--param {name}: expected a number, got {value!r}") from None
+            raise MechanismError(f"--param {name}: expected a number, got {value[:40]!r}") from None
         if not math.isfinite(number):
-            raise MechanismError(f"--param {name}: expected a finite number, got {value!r}")
-        return name, number
+            raise MechanismError(f"--param {name}: expected a finite number, got {value[:40]!r}")
+        return name, _in_range(number, name)
+    check_text(value, f"--param {name}")
     return name, value
+
+
+def _in_range(number, name):
+    if abs(number) > COORDINATE_LIMIT:
+        raise MechanismError(f"--param {name}: {number:g} is out of range (at most {COORDINATE_LIMIT:g} "
+                             f"in absolute value)")
+    return number

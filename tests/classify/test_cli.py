@@ -278,4 +278,5 @@ def test_text_output_escapes_control_characters_in_names():
     row = ReportRow("a\u001b[31m.yaml", "x\ny", report, comparison_row(model_of(mechanism), point, report, "x\ny"))
     assert not _has_raw_control(report_table([row]))
     exact = json.loads(json.dumps(report.to_dict()))
-    assert exact["mechanism"] == "five\u0000bar" and colour in exact["joint_values"] and forged in exact["configuration"]
+    assert exact["mechanism"] == "five\u0000bar"
+    assert colour in exact["joint_values"] and forged in exact["configuration"]
