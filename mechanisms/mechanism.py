@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import difflib
 import re
 from dataclasses import dataclass, field
 from functools import cached_property
@@ -32,6 +31,8 @@ SMALLEST_LENGTH = 1e-9
 _ROUNDING = 1e-12
 #: how many link names a message lists
 _LISTED_LINKS = 12
+#: shortest name (the longer of the two) that a one-character slip can be recognised in
+_SHORTEST_MISSPELT = 5
 
 
 def dense_memory_estimate(coordinates, rows):
@@ -88,6 +89,23 @@ class Mechanism:
     ground : str
         Name of the fixed link (default ``"ground"``).
     end_effector : EndEffector, optional
+
+    Raises
+    ------
+    MechanismError
+        Besides malformed joints, names and graphs: a link joined by a single
+        joint that is neither the ground nor the end-effector's link, when
+        its name looks like another link's or the mechanism has loops
+        (probably a misspelt name); a geometry whose largest distance between
+        two points of a link is below :data:`SMALLEST_LENGTH` (but not mere
+        rounding); a mechanism whose dense algorithms would need more than
+        :data:`DENSE_MEMORY_LIMIT` bytes (:func:`dense_memory_estimate`; a
+        ladder of 100 planar four-bar loops, 400 joints, needs 0.4 GB).
+
+    Notes
+    -----
+    A mechanism without loops (a serial chain or a tree, ``loop_count == 0``)
+    is legitimate; the commands say so in their output.
 
     Examples
     --------
@@ -161,7 +179,7 @@ class Mechanism:
 
     @property
     def loop_count(self):
-        """Number of independent loops, ``joints − links + 1``."""
+        """Number of independent loops, ``joints − links + 1`` (0 for a serial chain or a tree)."""
         return len(self.joints) - self.graph.number_of_nodes() + 1
 
     @property
@@ -269,18 +287,56 @@ def _check_size(joints, graph, space):
             f"(8·k²·(c + 22) bytes), more than the limit of {_binary_size(DENSE_MEMORY_LIMIT)}")
 
 
-def _looks_like(name, candidates):
-    """The candidate `name` is probably a misspelling of (None if none), ignoring case; names that
-    differ only in their digits (``link1``, ``link2``) are different names, not misspellings."""
-    lowered = {candidate.lower(): candidate for candidate in candidates if candidate != name}
-    for match in difflib.get_close_matches(name.lower(), list(lowered), n=3, cutoff=0.8):
-        if re.sub(r"[0-9]", "", match) != re.sub(r"[0-9]", "", name.lower()):
-            return lowered[match]
-    return None
+def _one_edit_apart(first, second):
+    """Whether one character inserted, deleted, replaced, or two adjacent ones swapped, turn one into the other."""
+    if len(first) > len(second):
+        first, second = second, first
+    if len(second) - len(first) == 1:
+        return any(second[:index] + second[index + 1:] == first for index in range(len(second)))
+    if len(first) != len(second):
+        return False
+    differences = [index for index, (a, b) in enumerate(zip(first, second)) if a != b]
+    return len(differences) == 1 or (
+        len(differences) == 2 and differences[1] == differences[0] + 1
+        and first[differences[0]] == second[differences[1]] and first[differences[1]] == second[differences[0]])
 
 
-def _known_links(graph, excluded):
-    names = [link for link in graph if link not in excluded]
+def _deletions(name):
+    """`name` and every string one deletion away: two names one edit apart share one of these."""
+    return {name} | {name[:index] + name[index + 1:] for index in range(len(name))}
+
+
+class _LookAlikes:
+    """Names indexed by their deletions, to find a name's probable misspellings among many in linear time."""
+
+    def __init__(self, names):
+        self._index = {}
+        for name in names:
+            for key in _deletions(name.lower()):
+                self._index.setdefault(key, []).append(name)
+
+    def of(self, name, among):
+        """A name of `among` that `name` is probably a misspelling of, or None.
+
+        One edit apart ignoring case (:func:`_one_edit_apart`), the longer at
+        least :data:`_SHORTEST_MISSPELT` characters, and not differing only in
+        digits (``link1``, ``link2`` are different names).
+        """
+        lowered = name.lower()
+        candidates = {candidate for key in _deletions(lowered) for candidate in self._index.get(key, ())}
+        for candidate in sorted(candidates & among - {name}):
+            other = candidate.lower()
+            if (max(len(lowered), len(other)) >= _SHORTEST_MISSPELT
+                    and re.sub(r"[0-9]", "", lowered) != re.sub(r"[0-9]", "", other)
+                    and (lowered == other or _one_edit_apart(lowered, other))):
+                return candidate
+        return None
+
+
+def _known_links(graph, ground, excluded):
+    """The link names for a message: the ground first, then in order of appearance, at most a dozen."""
+    names = [link for link in [ground, *graph] if link not in excluded]
+    names = list(dict.fromkeys(names))
     shown = names[:_LISTED_LINKS] + (["..."] if len(names) > _LISTED_LINKS else [])
     return ", ".join(shown)
 
@@ -294,27 +350,34 @@ def _check_dangling_links(joints, graph, ground, end_effector):
 
     A link joined by a single joint that is neither the ground nor the
     end-effector's link moves freely and carries nothing. It is refused when
-    its name looks like another link's name (``copuler`` and ``coupler``,
-    ``grund`` and ``ground``; names differing only in digits do not count),
+    its name looks like another link's name (one character inserted,
+    deleted, replaced or two swapped, ignoring case: ``copuler`` and
+    ``coupler``, ``grund`` and ``ground``; names under 5 characters or
+    differing only in digits do not count),
     and in a mechanism with loops whatever its name (a dangling link there is
     an idle freedom, most likely a misspelt name). A mechanism without loops
     (a serial chain, a tree) with distinct names is legitimate.
     """
     explained = {ground} | ({end_effector.link} if end_effector is not None else set())
     loops = len(joints) - graph.number_of_nodes() + 1
-    dangling = [link for link in graph if graph.degree(link) == 1 and link not in explained]
-    used = [link for link in graph if link not in dangling]
+    dangling = {link for link in graph if graph.degree(link) == 1 and link not in explained}
+    used = set(graph) - dangling
+    look_alikes = _LookAlikes(graph)
     for joint in joints:
         for index, link in enumerate(joint.links):
             if link in dangling:
-                _refuse_dangling(joints, graph, f"joint {joint.name!r}: field 'links': item {index}", link,
-                                 _looks_like(link, used), _looks_like(link, dangling), loops)
+                _refuse_dangling(joints, f"joint {joint.name!r}: field 'links': item {index}", link,
+                                 look_alikes.of(link, used), look_alikes.of(link, dangling), loops,
+                                 lambda: f"(known links: {_known_links(graph, ground, {link})})")
 
 
-def _refuse_dangling(joints, graph, where, link, original, twin, loops):
-    """Raise the message for a dangling link (see :func:`_check_dangling_links`), if it is refused."""
+def _refuse_dangling(joints, where, link, original, twin, loops, known_links):
+    """Raise the message for a dangling link (see :func:`_check_dangling_links`), if it is refused;
+    `known_links()` is the list of links the message ends with."""
     alone = "appears in no other joint and is neither the ground nor the end-effector's link"
-    known = f"(known links: {_known_links(graph, {link})})"
+    if original is None and twin is None and loops == 0:
+        return
+    known = known_links()
     if original is not None:
         raise MechanismError(f"{where}: link {link!r} {alone}: probably a misspelling of {original!r} {known}")
     if twin is not None:

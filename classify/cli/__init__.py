@@ -20,6 +20,7 @@ from __future__ import annotations
 import os
 import sys
 import traceback
+import unicodedata
 
 from mechanisms import ConfigurationError, MechanismError
 
@@ -47,20 +48,41 @@ def parser():
     return result
 
 
+def _one_line(text):
+    """`text` on one line, safe for a terminal: control and format characters (a NUL or an escape
+    sequence in a file name) and what UTF-8 cannot encode (lone surrogates from undecodable file
+    names) written as backslash escapes."""
+    text = " ".join(str(text).split())
+    text = "".join(character.encode("unicode_escape").decode("ascii")
+                   if unicodedata.category(character) in ("Cc", "Cf", "Cs") else character
+                   for character in text)
+    return text
+
+
+def _standard_output():
+    """``sys.stdout``, set to escape rather than fail on text it cannot encode (a file name that is not
+    valid UTF-8 echoed in a report)."""
+    if hasattr(sys.stdout, "reconfigure"):
+        try:
+            sys.stdout.reconfigure(errors="backslashreplace")
+        except (ValueError, OSError):  # a stream that cannot be reconfigured any more
+            pass
+    return sys.stdout
+
+
 def main(argv=None, out=None):
     """Entry point of the ``closedchain`` command; returns the exit status."""
-    out = sys.stdout if out is None else out
+    out = _standard_output() if out is None else out
     try:
         arguments = parser().parse_args(argv)
         COMMANDS[arguments.command].run(arguments, out)
         return 0
     except (InputError, MechanismError, ConfigurationError) as error:
-        message = " ".join(str(error).split())
-        print(f"closedchain: error: {message}", file=sys.stderr)
+        print(f"closedchain: error: {_one_line(error)}", file=sys.stderr)
         return 2
     except Exception as error:  # noqa: BLE001 - the CLI must never show a traceback by default
         if os.environ.get("CLOSEDCHAIN_DEBUG"):
             traceback.print_exc()
-        message = " ".join(f"{type(error).__name__}: {error}".split())
+        message = _one_line(f"{type(error).__name__}: {error}")
         print(f"closedchain: internal error: {message} (set CLOSEDCHAIN_DEBUG=1 for details)", file=sys.stderr)
         return 1

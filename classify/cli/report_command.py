@@ -31,7 +31,7 @@ from ..model import joint_output_model, model_of
 from ..report import printable
 from ..survey import survey as survey_mechanism
 from ._common import (
-    MECHANISM_SUFFIXES, InputError, check_length_scale, common_options, dumps, is_entry, write_output,
+    MECHANISM_SUFFIXES, InputError, check_length_scale, common_options, dumps, is_entry, path_exists, write_output,
 )
 
 __all__ = ["add_parser", "run", "run_tasks", "report_table", "report_summary", "ReportRow", "JOINT_OUTPUTS",
@@ -150,12 +150,12 @@ def add_parser(commands):
 def _mechanism_files(paths):
     files = []
     for path in map(Path, paths):
+        if not path_exists(path):
+            raise InputError(f"{printable(path)}: no such file or folder")
         if path.is_dir():
             files += sorted(p for p in path.rglob("*") if p.suffix in MECHANISM_SUFFIXES)
-        elif path.exists():
-            files.append(path)
         else:
-            raise InputError(f"{printable(path)}: no such file or folder")
+            files.append(path)
     if not files:
         raise InputError(f"no mechanism files (.yaml, .yml, .json) under {', '.join(map(printable, paths))}")
     return files
@@ -318,6 +318,7 @@ def _catalogue_rows(task, seed, length_scale):
     rows = []
     for name in task.names:
         mechanism = item.mechanism(None if name == "default" else name)
+        check_length_scale(length_scale, mechanism)
         model, point, layout = model_of(mechanism, length_scale), home(mechanism), _layout(mechanism)
         report = classify(model, point, survey=surveys.of(layout, model), rng=np.random.default_rng(seed))
         report = replace(report, source={"catalogue": item.name,
@@ -343,6 +344,7 @@ def _file_rows(task, seed, length_scale):
     named = {"home": {}, **document.configurations}
     points = {name: configuration(mechanism, values, where=f"{printable(path)}: configurations[{name!r}]").point
               for name, values in named.items()}
+    check_length_scale(length_scale, mechanism)
     model = model_of(mechanism, length_scale)
     shared = survey_mechanism(model, np.random.default_rng(seed), starts=np.stack(list(points.values())))
     rows = []

@@ -1,6 +1,7 @@
 """The ``closedchain`` command: contract JSON, exit codes, one-line errors."""
 
 import json
+import os
 import subprocess
 import sys
 from pathlib import Path
@@ -8,7 +9,8 @@ from pathlib import Path
 import pytest
 import yaml
 
-from classify.cli import main
+from classify.cli import InputError, main
+from classify.cli._common import write_output
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 CONTRACT_KEYS = {"mechanism", "dof", "singular", "kinds", "cspace", "actuator", "end_effector", "manipulability"}
@@ -280,3 +282,95 @@ def test_text_output_escapes_control_characters_in_names():
     exact = json.loads(json.dumps(report.to_dict()))
     assert exact["mechanism"] == "five\u0000bar"
     assert colour in exact["joint_values"] and forged in exact["configuration"]
+
+
+# ------------------------------------------- option refusals found by fuzzing (issue 10)
+
+def refused(arguments, capsys):
+    """The one stderr line of a refused command, without its "closedchain: error: " prefix."""
+    status, out, err = run(arguments, capsys)
+    assert status == 2 and out == "" and err.count("\n") == 1, err
+    assert err.startswith("closedchain: error: ")
+    return err[len("closedchain: error: "):].rstrip("\n")
+
+
+@pytest.mark.parametrize("arguments, message", [
+    (["classify", "five-bar", "--seed", "-1"], "argument --seed: expected an integer from 0 to 2**64 - 1, got -1"),
+    (["classify", "five-bar", "--seed", str(2 ** 64)],
+     "argument --seed: expected an integer from 0 to 2**64 - 1, got 18446744073709551616"),
+    (["classify", "five-bar", "--length-scale", "nan"], "argument --length-scale: expected a positive finite number, "
+                                                         "got nan"),
+    (["classify", "five-bar", "--length-scale", "1e300"],
+     "--length-scale: expected a value from 8e-06 to 8e+06 (within a factor 1e+06 of the characteristic length 8 of "
+     "the mechanism), got 1e+300"),
+    (["compare", "five-bar", "--samples", "1000000000"],
+     "--samples: expected a count ≥ 0 and at most 10000, got 1000000000"),
+    (["compare", "five-bar", "--path", "10001"], "--path: expected a count ≥ 0 and at most 10000, got 10001"),
+    (["compare", "five-bar", "--path-step", "1e300"],
+     "--path-step: expected a step from 1e-09 to 1 (joint coordinates: radians, and lengths in units of the "
+     "mechanism's characteristic length), got 1e+300"),
+    (["classify", "five-bar", "--param", "base=1e308"],
+     "--param base: 1e+308 is out of range (at most 1e+12 in absolute value)"),
+    (["classify", "five-bar", "--param", "actuated=\udcff"], "--param actuated: not valid text: lone surrogate "
+                                                              "U+DCFF at position 0"),
+    (["classify", "five-bar", "--at", '{"A": ' + "9" * 5000 + "}"],
+     "--at: cannot parse JSON: an integer of 5000 digits is out of range (at most 400)"),
+    (["classify", "five-bar", "--at", "[" * 100_000], "--at: cannot parse JSON: the document nests deeper than 20 "
+                                                      "levels"),
+    (["classify", "five-bar", "--at", '{"A": NaN}'], "--at: joint 'A': expected a finite number, got nan"),
+    (["classify", "five-bar", "--at", '{"A": 1e13}'], "--at: joint 'A': 1e+13 is out of range (displacements are "
+                                                      "at most 1e+12 in absolute value)"),
+])
+def test_absurd_option_values_are_refused_with_one_line(arguments, message, capsys):
+    assert refused(arguments, capsys) == message
+
+
+def test_param_that_makes_no_mechanism_names_the_parameter(capsys):
+    message = refused(["classify", "five-bar", "--param", "base=1e11"], capsys)
+    assert message.startswith("five-bar with base=100000000000.0: cannot be built: ")
+
+
+def test_at_file_that_is_binary_or_special_is_refused(tmp_path, capsys):
+    binary = tmp_path / "at.json"
+    binary.write_bytes(bytes(range(256)))
+    assert refused(["classify", "five-bar", "--at", f"@{binary}"], capsys).startswith(
+        f"--at: {binary}: cannot read the file: not UTF-8 text")
+    assert refused(["classify", "five-bar", "--at", f"@{tmp_path}"], capsys) == (
+        f"--at: {tmp_path}: cannot read the file: it is a directory, not a regular file")
+    if os.path.exists("/dev/zero"):
+        assert refused(["classify", "five-bar", "--at", "@/dev/zero"], capsys) == (
+            "--at: /dev/zero: cannot read the file: it is a character device, not a regular file")
+
+
+@pytest.mark.parametrize("target, reason", [
+    ("missing/five_bar.yaml", "No such file or directory"),
+    ("folder.yaml", "Is a directory"),
+    ("full.yaml", "No space left on device"),
+])
+def test_catalog_write_reports_why_it_cannot_write(target, reason, tmp_path, capsys):
+    (tmp_path / "folder.yaml").mkdir()
+    if target == "full.yaml":
+        if not os.path.exists("/dev/full"):
+            pytest.skip("no /dev/full on this platform")
+        (tmp_path / "full.yaml").symlink_to("/dev/full")
+    path = tmp_path / target
+    assert refused(["catalog", "five-bar", "--write", str(path)], capsys) == (
+        f"--write: {path}: cannot write the file: {reason}")
+
+
+def test_write_output_raises_an_input_error_naming_the_option(tmp_path):
+    write_output(str(tmp_path / "report.txt"), "text\n", "--output")
+    assert (tmp_path / "report.txt").read_text() == "text\n"
+    with pytest.raises(InputError, match=r"^--output: .*missing/report.txt: cannot write the file: No such file"):
+        write_output(str(tmp_path / "missing" / "report.txt"), "text\n", "--output")
+
+
+@pytest.mark.parametrize("name", ["a\x00b.yaml", "x" * 5000 + ".yaml"])
+def test_file_names_no_file_can_have_are_input_errors(name, capsys):
+    message = refused(["classify", name], capsys)
+    assert "\x00" not in message and "cannot read the file" in message
+
+
+def test_error_line_escapes_control_characters_and_surrogates(capsys):
+    message = refused(["classify", "five-bar", "--configuration", "\x1b]0;x\x07\udcff"], capsys)
+    assert "'\\x1b]0;x\\x07\\udcff'" in message

@@ -1,15 +1,19 @@
 """Tests of mechanisms.io: the mechanism file format (docs/design.rst, "Mechanism file")."""
 
 import json
+import os
 import re
 
 import pytest
 import yaml
 
+from mechanisms import catalogue
 from mechanisms.errors import MechanismError
 from mechanisms.io import (
-    MechanismDocument, load, loads, mechanism_from_dict, mechanism_to_dict, read, save,
+    FILE_SIZE_LIMIT, MechanismDocument, load, loads, mechanism_from_dict, mechanism_to_dict, read,
+    read_text_file, save, write_text_file,
 )
+from mechanisms.mechanism import DENSE_MEMORY_LIMIT, dense_memory_estimate
 from mechanisms.joints import EndEffector, Joint
 from mechanisms.mechanism import Mechanism
 
@@ -331,3 +335,283 @@ def test_null_optional_sections_mean_none():
     document = loads(text)
     assert document.mechanism.end_effector is None
     assert document.configurations == {} and document.description is None
+
+
+# ------------------------------------------- refusals found by fuzzing (issue 10)
+
+FOUR_BAR_YAML = """\
+name: four-bar
+space: planar
+joints:
+  - {name: A, type: R, links: [ground, crank], point: [0, 0], actuated: true}
+  - {name: B, type: R, links: [crank, coupler], point: [0, 1]}
+  - {name: C, type: R, links: [coupler, rocker], point: [2, 1.5]}
+  - {name: D, type: R, links: [rocker, ground], point: [2, 0]}
+end_effector: {link: coupler, point: [1, 1]}
+"""
+
+
+def refusal(text, file_format="yaml"):
+    """The one-line message with which `text` is refused."""
+    with pytest.raises(MechanismError) as caught:
+        loads(text, file_format)
+    message = str(caught.value)
+    assert len(message.splitlines()) == 1
+    return message
+
+
+def test_misspelt_link_is_refused_naming_the_joint_and_the_likely_name():
+    message = refusal(FOUR_BAR_YAML.replace("links: [coupler, rocker]", "links: [copuler, rocker]"))
+    assert message == ("mechanism text: joint 'C': field 'links': item 0: link 'copuler' appears in no other "
+                       "joint and is neither the ground nor the end-effector's link: probably a misspelling of "
+                       "'coupler' (known links: ground, crank, coupler, rocker)")
+
+
+def test_misspelt_ground_is_refused():
+    message = refusal(FOUR_BAR_YAML.replace("[rocker, ground]", "[rocker, grund]"))
+    assert "joint 'D': field 'links': item 1: link 'grund'" in message
+    assert "probably a misspelling of 'ground'" in message
+
+
+def test_two_dangling_look_alike_links_are_refused_together():
+    text = FOUR_BAR_YAML.replace("links: [coupler, rocker]", "links: [copuler, rocker]").replace(
+        "end_effector: {link: coupler, point: [1, 1]}\n", "")
+    message = refusal(text)
+    assert "links 'coupler' and 'copuler' (joint 'C') each appear in one joint only" in message
+    assert "one is probably a misspelling of the other" in message
+
+
+def test_dangling_link_in_a_mechanism_with_loops_is_refused():
+    text = FOUR_BAR_YAML.replace("joints:\n", "joints:\n  - {name: E, type: R, links: [crank, flag], "
+                                               "point: [0, 0.5]}\n")
+    assert "joint 'E': field 'links': item 1: link 'flag' appears in no other joint" in refusal(text)
+    assert "probably a misspelt name (known links: ground, crank, coupler, rocker)" in refusal(text)
+
+
+def test_serial_chain_and_tree_with_distinct_names_are_accepted_without_loops():
+    serial = loads("name: arm\nspace: planar\njoints:\n"
+                   "  - {name: shoulder, type: R, links: [ground, upper_arm], point: [0, 0], actuated: true}\n"
+                   "  - {name: elbow, type: R, links: [upper_arm, forearm], point: [1, 0], actuated: true}\n"
+                   "end_effector: {link: forearm, point: [2, 0]}\n").mechanism
+    assert serial.loop_count == 0
+    tree = loads("name: tree\nspace: planar\njoints:\n"
+                 "  - {name: A, type: R, links: [ground, arm], point: [0, 0]}\n"
+                 "  - {name: B, type: R, links: [arm, hand_left], point: [0, 1]}\n"
+                 "  - {name: C, type: R, links: [arm, hand_right], point: [0, 1]}\n"
+                 "  - {name: D, type: R, links: [arm, finger1], point: [0, 1]}\n"
+                 "  - {name: E, type: R, links: [arm, finger2], point: [0, 1]}\n").mechanism
+    assert tree.loop_count == 0
+
+
+@pytest.mark.parametrize("where, document", [
+    ("field 'joints': item 0: field 'name'", {"joints": [{"name": "J\ud800"}]}),
+    ("joint 'A': field 'links': item 1", {"joints": [{"links": ["ground", "\udfff"]}]}),
+    ("field 'name'", {"name": "four\ud83d"}),
+    ("field 'description'", {"description": "text \udc80"}),
+])
+def test_lone_surrogates_are_refused_as_invalid_text(where, document):
+    data = yaml.safe_load(FOUR_BAR_YAML)
+    for key, value in document.items():
+        if key == "joints":
+            data["joints"][0].update(value[0])
+        else:
+            data[key] = value
+    message = refusal(json.dumps(data), "json")
+    assert f"{where}: not valid text: lone surrogate U+" in message
+
+
+def test_configuration_name_with_a_surrogate_is_refused():
+    message = refusal(json.dumps({**yaml.safe_load(FOUR_BAR_YAML), "configurations": {"c\ud800": {"A": 0}}}),
+                      "json")
+    assert "not valid text: lone surrogate U+D800 at position 1" in message
+
+
+def test_long_names_are_refused():
+    message = refusal(FOUR_BAR_YAML.replace("name: A,", f"name: {'A' * 300},"))
+    assert "field 'name': expected a name of at most 256 characters, got 300" in message
+
+
+@pytest.mark.parametrize("old, new, fragment", [
+    ("point: [2, 1.5]", "point: [2e13, 1.5]", "joint 'C': field 'point': item 0: 2e+13 is out of range"),
+    ("point: [2, 1.5]", "point: [2, -1e200]", "joint 'C': field 'point': item 1: -1e+200 is out of range"),
+    ("point: [1, 1]}", "point: [1, 1e300]}", "end_effector: field 'point': item 1: 1e+300 is out of range"),
+    ("actuated: true}", "actuated: true, weight: 1e300}", "joint 'A': field 'weight': expected a weight between"),
+    ("actuated: true}", "actuated: true, weight: 1e-300}", "joint 'A': field 'weight': expected a weight between"),
+])
+def test_coordinates_and_weights_beyond_the_sane_range_are_refused(old, new, fragment):
+    assert fragment in refusal(FOUR_BAR_YAML.replace(old, new))
+
+
+def test_axis_beyond_the_sane_range_is_refused():
+    text = "name: s\nspace: planar\njoints: [{name: S, type: P, links: [ground, b], axis: [1e15, 0]}]\n"
+    assert "joint 'S': field 'axis': item 0: 1e+15 is out of range" in refusal(text)
+
+
+def test_displacement_beyond_the_sane_range_is_refused():
+    message = refusal(FOUR_BAR_YAML + "configurations: {far: {A: 1.0e+13}}\n")
+    assert "configurations['far']: joint 'A': 1e+13 is out of range" in message
+
+
+def scaled(data, factor):
+    """A mechanism file's data with every point multiplied by `factor`."""
+    data = json.loads(json.dumps(data))
+    for entry in data["joints"] + ([data["end_effector"]] if data.get("end_effector") else []):
+        if "point" in entry:
+            entry["point"] = [factor * value for value in entry["point"]]
+    return data
+
+
+def test_geometry_too_small_for_the_tolerances_is_refused():
+    message = refusal(json.dumps(scaled(yaml.safe_load(FOUR_BAR_YAML), 1e-150)), "json")
+    assert message == ("mechanism text: field 'joints': the geometry is too small: the largest distance between two "
+                       "points of one link is 2.06e-150, below 1e-09; describe the mechanism in a smaller unit "
+                       "of length")
+
+
+@pytest.mark.parametrize("name", catalogue.names())
+@pytest.mark.parametrize("factor", [1e-6, 1e6])
+def test_catalogue_in_micrometres_or_kilometres_is_accepted(name, factor):
+    mechanism = catalogue.entry(name).mechanism()
+    document = loads(json.dumps(scaled(mechanism_to_dict(mechanism), factor)), "json")
+    expected = mechanism.characteristic_length * (1 if mechanism.space == "spherical" else factor)
+    assert document.mechanism.characteristic_length == pytest.approx(expected)
+
+
+# ---------------------------------------------------------------- files
+
+def test_file_over_the_size_limit_is_refused_with_its_size(tmp_path):
+    path = tmp_path / "big.yaml"
+    path.write_text("#" * (FILE_SIZE_LIMIT + 10) + "\n")
+    with pytest.raises(MechanismError) as caught:
+        read(path)
+    assert str(caught.value) == (f"{path}: the file is too large: {FILE_SIZE_LIMIT + 11} bytes "
+                                 f"(the limit is {FILE_SIZE_LIMIT} bytes)")
+
+
+@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="no FIFOs on this platform")
+def test_fifo_is_refused_without_blocking(tmp_path):
+    path = tmp_path / "pipe.yaml"
+    os.mkfifo(path)
+    with pytest.raises(MechanismError, match="cannot read the file: it is a FIFO \\(named pipe\\), not a regular file"):
+        read(path)
+
+
+@pytest.mark.skipif(not os.path.exists("/dev/zero"), reason="no /dev/zero on this platform")
+def test_device_is_refused_without_reading_it(tmp_path):
+    path = tmp_path / "zero.yaml"
+    path.symlink_to("/dev/zero")
+    with pytest.raises(MechanismError, match="cannot read the file: it is a character device, not a regular file"):
+        read(path)
+
+
+def test_binary_file_is_refused_as_not_utf8(tmp_path):
+    path = tmp_path / "binary.json"
+    path.write_bytes(b"\x7fELF\x02\x01\x01\x00\xff\xfe")
+    with pytest.raises(MechanismError, match="not UTF-8 text"):
+        read_text_file(path)
+
+
+def test_path_with_a_nul_byte_is_refused(tmp_path):
+    with pytest.raises(MechanismError, match="cannot read the file: embedded null byte"):
+        read(str(tmp_path / "a\x00b.yaml"))
+
+
+@pytest.mark.parametrize("name, reason", [
+    ("missing/five_bar.yaml", "No such file or directory"),
+    ("folder.yaml", "Is a directory"),
+])
+def test_write_text_file_reports_the_operating_system_reason(name, reason, tmp_path):
+    (tmp_path / "folder.yaml").mkdir()
+    with pytest.raises(MechanismError) as caught:
+        write_text_file(tmp_path / name, "text")
+    assert str(caught.value) == f"{tmp_path / name}: cannot write the file: {reason}"
+
+
+@pytest.mark.skipif(not os.path.exists("/dev/full"), reason="no /dev/full on this platform")
+def test_write_text_file_reports_a_full_device_on_flush(tmp_path):
+    path = tmp_path / "full.yaml"
+    path.symlink_to("/dev/full")
+    with pytest.raises(MechanismError, match="cannot write the file: No space left on device"):
+        save(five_bar(), path)
+
+
+@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="no FIFOs on this platform")
+def test_write_text_file_refuses_a_fifo_nobody_reads(tmp_path):
+    path = tmp_path / "pipe.yaml"
+    os.mkfifo(path)
+    with pytest.raises(MechanismError, match="cannot write the file: it is a FIFO that no process is reading"):
+        save(five_bar(), path)
+
+
+# ------------------------------------------------------- YAML and JSON limits
+
+@pytest.mark.parametrize("text, fragment", [
+    ("name: &a five\nspace: *a\n", "found an anchor &a: anchors and aliases are not allowed"),
+    ("name: x\nspace: *a\n", "found an alias *a: anchors and aliases are not allowed"),
+    ("name: x\n<<: {space: planar}\n", "found a merge key '<<': merge keys are not allowed"),
+    ("name: !!binary aGVsbG8=\n", "found the tag '!!binary': a mechanism file holds plain data"),
+    ("name: !!python/name:os.system\n", "found the tag '!!python/name:os.system'"),
+    ("name: !local x\n", "found the tag '!local'"),
+    ("name: " + "[" * 50 + "]" * 50 + "\n", "the document nests deeper than 20 levels"),
+    ("name: x\nspace: planar\njoints: [{point: [" + "9" * 500 + "]}]\n",
+     "an integer of 500 digits is out of range (at most 400)"),
+])
+def test_yaml_features_a_mechanism_file_does_not_need_are_refused(text, fragment):
+    message = refusal(text)
+    assert message.startswith("mechanism text: cannot parse YAML: ") and fragment in message
+
+
+def test_plain_tags_are_accepted():
+    document = loads(FOUR_BAR_YAML.replace("name: four-bar", "name: !!str four-bar"))
+    assert document.mechanism.name == "four-bar"
+
+
+@pytest.mark.parametrize("text, fragment", [
+    ("[" * 100_000 + "]" * 100_000, "the document nests deeper than 20 levels"),
+    ('{"name": ' + "[" * 30 + "]" * 30 + "}", "the document nests deeper than 20 levels"),
+    ('{"name": ' + "9" * 5000 + "}", "an integer of 5000 digits is out of range (at most 400)"),
+])
+def test_pathological_json_is_refused(text, fragment):
+    assert refusal(text, "json") == f"mechanism text: cannot parse JSON: {fragment}"
+
+
+def test_billion_laughs_is_refused_at_once():
+    lines = ['a0: &a0 ["lol", "lol", "lol", "lol", "lol", "lol", "lol", "lol", "lol"]']
+    lines += [f"a{level}: &a{level} [{', '.join([f'*a{level - 1}'] * 9)}]" for level in range(1, 10)]
+    assert "anchors and aliases are not allowed" in refusal("\n".join(lines))
+
+
+# ---------------------------------------------------------- size of the mechanism
+
+def ladder(loops):
+    """A planar ladder of `loops` four-bar loops stacked on the ground: 4 joints per loop."""
+    joints = []
+    for index in range(1, loops + 1):
+        below, above = ("ground" if index == 1 else f"rung{index - 1}"), f"rung{index}"
+        joints += [Joint(f"A{index}", "R", (below, f"left{index}"), point=(0.0, index - 1.0)),
+                   Joint(f"B{index}", "R", (f"left{index}", above), point=(0.1, float(index))),
+                   Joint(f"C{index}", "R", (below, f"right{index}"), point=(1.0, index - 1.0)),
+                   Joint(f"D{index}", "R", (f"right{index}", above), point=(1.1, float(index)))]
+    return Mechanism(f"ladder of {loops}", "planar", joints,
+                     end_effector=EndEffector(f"rung{loops}", point=(0.5, float(loops))))
+
+
+def test_hundred_loop_ladder_is_within_the_dense_memory_limit():
+    mechanism = ladder(100)
+    assert (len(mechanism.joints), mechanism.loop_count, mechanism.ambient_dimension) == (400, 100, 400)
+    assert mechanism.dense_memory_estimate == dense_memory_estimate(400, 300) < DENSE_MEMORY_LIMIT
+
+
+def test_every_catalogue_entry_is_far_within_the_dense_memory_limit():
+    for item in catalogue.entries():
+        assert item.mechanism().dense_memory_estimate < DENSE_MEMORY_LIMIT / 100
+
+
+def test_mechanism_too_large_for_the_dense_algorithms_is_refused_with_its_size():
+    lines = ["name: pendulums", "space: planar", "joints:"]
+    lines += [f"  - {{name: P{index}, type: R, links: [ground, pendulum{index}], point: [{index}.0, 0.0]}}"
+              for index in range(3000)]
+    message = refusal("\n".join(lines))
+    assert message == ("mechanism text: field 'joints': the mechanism is too large for the dense algorithms: 3000 "
+                       "joint coordinates and 0 constraint rows need about 1.48 GiB (8·k²·(c + 22) bytes), more "
+                       "than the limit of 1 GiB")
