@@ -86,6 +86,10 @@ Legend
                          report does not guess.
     +i idle              i idle freedoms: motions that move neither an actuator nor the end-effector (a leg
                          spinning between two ball joints); not counted as singular.
+    (architecture)       an architecture singularity: with the actuators locked, a freedom still moves the
+                         end-effector at every configuration of M (Gosselin & Angeles 1990, eq. 87; the free
+                         spin of the 5-SPU's tool seen by a pose end-effector), so every configuration is a
+                         degenerate actuator singularity.
   κ                      the condition number λ₁/λₙ of the manipulability proper values; `∞` at an end-effector
                          singularity (λₙ = 0); `-` where they are not defined (no end-effector, an actuator or
                          a C-space singularity).
@@ -169,7 +173,8 @@ def _rank(result):
 
 def _actuator_cell(report):
     cell = _rank(report.actuator) + (f" {report.degeneracy}" if report.degeneracy else "")
-    return cell + (f" +{report.idle_freedoms} idle" if report.idle_freedoms else "")
+    cell += f" +{report.idle_freedoms} idle" if report.idle_freedoms else ""
+    return cell + (" (architecture)" if report.architecture_singular else "")
 
 
 def _condition_cell(report):
