@@ -1,8 +1,8 @@
 """No verdict depends on the unit of length (docs/design.rst, "Metrics").
 
-Every catalogue mechanism, at its default and at every named configuration, drawn with all lengths
-×1e-6, ×1e-3, ×1e3 or ×1e6 (:func:`mechanisms.scale_lengths`; the factors cycle over the
-configurations) is classified exactly as drawn in the catalogue's unit: same kinds, degeneracy,
+Every catalogue mechanism, at its defaults with all lengths ×1e-6, ×1e-3, ×1e3 and ×1e6, and at
+every named configuration in one of these units (:func:`mechanisms.scale_lengths`; the factors cycle
+over the configurations), is classified exactly as drawn in the catalogue's unit: same kinds, degeneracy,
 dof, ranks, expected ranks, idle freedoms and architecture flag, and the same relative margins (every
 decision is taken on dimensionless maps). Actuator weights do not decide either.
 """
@@ -18,7 +18,10 @@ from mechanisms import Mechanism, catalogue, home, scale_lengths
 
 FACTORS = (1e-6, 1e-3, 1e3, 1e6)
 CASES = [(item.name, name) for item in catalogue.entries() for name in (None, *item.configurations)]
-SCALED = [(name, configuration, factor) for (name, configuration), factor in zip(CASES, itertools.cycle(FACTORS))]
+# every entry at its defaults in all four units; every named configuration in one of them (cycling)
+SCALED = ([(item.name, None, factor) for item in catalogue.entries() for factor in FACTORS]
+          + [(name, configuration, factor) for (name, configuration), factor
+             in zip([case for case in CASES if case[1] is not None], itertools.cycle(FACTORS))])
 
 
 def classified(mechanism):
