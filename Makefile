@@ -15,7 +15,7 @@ demo: $(BIN)/closedchain
 	$(BIN)/closedchain report --output report.txt
 
 test: $(BIN)/closedchain
-	$(BIN)/python -m pytest
+	$(BIN)/python -m pytest -n auto
 
 clean:
 	rm -rf $(VENV) report.txt
