@@ -20,10 +20,10 @@ from __future__ import annotations
 import os
 import sys
 import traceback
-import unicodedata
 
 from mechanisms import ConfigurationError, MechanismError
 
+from ..report import printable
 from . import catalog_command, classify_command, compare_command, report_command
 from ._common import InputError, Parser
 from .report_command import report_table
@@ -49,14 +49,9 @@ def parser():
 
 
 def _one_line(text):
-    """`text` on one line, safe for a terminal: control and format characters (a NUL or an escape
-    sequence in a file name) and what UTF-8 cannot encode (lone surrogates from undecodable file
-    names) written as backslash escapes."""
-    text = " ".join(str(text).split())
-    text = "".join(character.encode("unicode_escape").decode("ascii")
-                   if unicodedata.category(character) in ("Cc", "Cf", "Cs") else character
-                   for character in text)
-    return text
+    """`text` on one line, safe for a terminal (:func:`classify.report.printable`: control and format
+    characters, and lone surrogates from undecodable file names, written as backslash escapes)."""
+    return printable(" ".join(str(text).split()))
 
 
 def _standard_output():
