@@ -25,11 +25,11 @@ import numpy as np
 from manifold import DEFAULT_RTOL, local_rank, numerical_rank, scaled_jacobian, tangent_basis
 from mechanisms import CLOSURE_TOLERANCE, ConfigurationError, Mechanism
 
-from .metrics import largest_singular_value, manipulability, metric_root, unit_rows
+from .metrics import manipulability, unit_rows
 from .model import model_of
 from .report import KindResult, Report
 from .second_order import idle_slice, second_order_test
-from .survey import decision_blocks
+from .survey import decision_blocks, freedom_rows
 from .survey import survey as survey_mechanism
 
 __all__ = ["classify", "classify_many"]
@@ -77,14 +77,15 @@ def classify(mechanism, point, survey=None, rng=None, rtol=DEFAULT_RTOL, length_
     model = model_of(mechanism, length_scale) if isinstance(mechanism, Mechanism) else mechanism
     point = np.asarray(point, dtype=float)
     manifold = model.manifold
-    residual = float(np.linalg.norm(manifold.constraint(point)))
+    loop_rows = manifold.constraint(point)
+    residual = float(np.linalg.norm(loop_rows))
     if residual > CLOSURE_TOLERANCE or (manifold.is_solution is not None and not manifold.is_solution(point)):
         raise ConfigurationError(f"the configuration is not on the C-space (|Φ| = {residual:.3g}); project it first")
     names = model.coordinate_names
     k = manifold.ambient.dim
     scales = manifold.ambient.tangent_scales
     notes = []
-    if np.shape(manifold.constraint(point))[-1] == 0:
+    if np.shape(loop_rows)[-1] == 0:
         notes.append("no loop: an open (serial) chain, M is all of K; check the joints' links if a loop was meant")
 
     # C-space: rank of DΦ at p against the rank on M near p (dimensionless: DΦ·diag(s))
@@ -142,7 +143,8 @@ def classify(mechanism, point, survey=None, rng=None, rtol=DEFAULT_RTOL, length_
         unit_actuators = unit_rows(model.actuators, scales)
         tested, tested_basis = manifold, basis
         if idle:
-            tested, _ = idle_slice(manifold, point, basis, near.neighbours, _freedom_rows(model), idle, rtol=rtol)
+            tested, _ = idle_slice(manifold, point, basis, near.neighbours, lambda q: freedom_rows(model, q), idle,
+                                   rtol=rtol)
             if tested is None:
                 notes.append("idle freedoms: no neighbour on M to find their directions; "
                              "the second-order test is not run")
@@ -168,22 +170,6 @@ def classify(mechanism, point, survey=None, rng=None, rtol=DEFAULT_RTOL, length_
         end_effector=end_effector, manipulability=proper, second_order=second,
         idle_freedoms=idle, survey=survey.to_dict(), notes=tuple(notes), moving_idle_freedoms=moving,
     )
-
-
-def _freedom_rows(model):
-    """``q ↦`` the stacked dimensionless rows (unit actuators; H^½ Df over its scale) whose kernel on T_qM
-    is the idle freedoms (the actuator rows alone without end-effector)."""
-    scales = model.manifold.ambient.tangent_scales
-    actuators = unit_rows(model.actuators, scales)
-    if not model.end_effector_dimension:
-        return lambda point: actuators
-    root = metric_root(model.end_effector_metric)
-
-    def rows(point):
-        jacobian = root @ model.end_effector_jacobian(point)
-        return np.vstack([actuators, jacobian / max(largest_singular_value(jacobian * scales), 1e-300)])
-
-    return rows
 
 
 def classify_many(mechanism, points, survey=None, rng=None, **options):

@@ -256,10 +256,8 @@ def common_roots(forms, tolerance, rng, starts=None, refined=16):
     if forms.shape[0] == 0:
         return 0.0, np.eye(dimension)
     candidates = [np.eye(dimension)]
-    radical = np.linalg.svd(forms.reshape(-1, dimension))
-    scale = max(float(radical[1][0]) if radical[1].size else 0.0, 1e-300)
-    rank = int(np.count_nonzero(radical[1] > tolerance)) if scale > tolerance else 0
-    candidates.append(radical[2][rank:])
+    _, values, right = np.linalg.svd(forms.reshape(-1, dimension))
+    candidates.append(right[int(np.count_nonzero(values > tolerance)):])
     if dimension == 2:
         angles = np.linspace(0.0, np.pi, 721)
         circle = np.stack([np.cos(angles), np.sin(angles)], axis=-1)

@@ -23,7 +23,7 @@ from manifold import DEFAULT_RTOL, numerical_rank, sample_manifold, tangent_basi
 
 from .metrics import largest_singular_value, metric_root, unit_rows
 
-__all__ = ["Survey", "survey", "decision_blocks"]
+__all__ = ["Survey", "survey", "decision_rows", "decision_blocks", "freedom_rows"]
 
 
 @dataclass(frozen=True, eq=False)
@@ -81,24 +81,22 @@ class Survey:
                 "joint_rank": self.joint_rank}
 
 
-def decision_blocks(model, point, basis):
-    """The dimensionless maps whose ranks are decided at a point, restricted to a tangent basis.
+def decision_rows(model, point):
+    """The dimensionless maps whose ranks are decided at a point, on joint rates, with their scales.
 
     Parameters
     ----------
     model : Model
     point : ndarray, shape=[point_size]
-    basis : ndarray, shape=[k, m]
-        Tangent basis from :func:`manifold.tangent_basis`.
 
     Returns
     -------
-    actuator : ndarray, shape=[a, m]
-        ``unit_rows(E^½ Dπ) T`` (reference scale 1 per row).
+    actuator : ndarray, shape=[a, k]
+        ``unit_rows(E^½ Dπ)`` (reference scale 1 per row).
     actuator_scale : float
         σ₁ of ``unit_rows(E^½ Dπ)·diag(s)``.
-    end_effector : ndarray, shape=[n, m] or None
-        ``H^½ Df T``.
+    end_effector : ndarray, shape=[n, k] or None
+        ``H^½ Df``.
     end_effector_scale : float or None
         σ₁ of ``H^½ Df·diag(s)``.
     """
@@ -106,9 +104,32 @@ def decision_blocks(model, point, basis):
     actuators = unit_rows(model.actuators, scales)
     actuator_scale = largest_singular_value(actuators * scales)
     if not model.end_effector_dimension:
-        return actuators @ basis, actuator_scale, None, None
+        return actuators, actuator_scale, None, None
     jacobian = metric_root(model.end_effector_metric) @ model.end_effector_jacobian(point)
-    return actuators @ basis, actuator_scale, jacobian @ basis, largest_singular_value(jacobian * scales)
+    return actuators, actuator_scale, jacobian, largest_singular_value(jacobian * scales)
+
+
+def decision_blocks(model, point, basis):
+    """:func:`decision_rows` restricted to a tangent basis (from :func:`manifold.tangent_basis`): the
+    blocks ``[a, m]`` and ``[n, m]`` (None without end-effector) with the same scales."""
+    actuator, actuator_scale, end_effector, end_effector_scale = decision_rows(model, point)
+    return (actuator @ basis, actuator_scale, None if end_effector is None else end_effector @ basis,
+            end_effector_scale)
+
+
+def _stacked(actuator, actuator_scale, end_effector, end_effector_scale):
+    """The actuator rows over their scale, with the end-effector rows over theirs below them (if any):
+    the map whose kernel is the idle freedoms, decided with reference scale 1."""
+    rows = [actuator / max(actuator_scale, 1e-300)]
+    if end_effector is not None:
+        rows.append(end_effector / max(end_effector_scale, 1e-300))
+    return np.vstack(rows)
+
+
+def freedom_rows(model, point):
+    """The stacked dimensionless rows at `point` whose kernel on T_qM is the idle freedoms, shape=[a + n, k]
+    (the actuator rows alone without end-effector)."""
+    return _stacked(*decision_rows(model, point))
 
 
 def survey(model, rng, starts=None, random_count=24, walk_count=24, rtol=DEFAULT_RTOL):
@@ -137,12 +158,12 @@ def survey(model, rng, starts=None, random_count=24, walk_count=24, rtol=DEFAULT
     for point, (basis, decision) in zip(points, bases):
         if decision.rank < constraint_rank:
             continue  # a C-space singularity: ker DΦ is larger than the tangent spaces of M
-        actuator, actuator_scale, end_effector, end_effector_scale = decision_blocks(model, point, basis)
+        blocks = decision_blocks(model, point, basis)
+        actuator, actuator_scale, end_effector, end_effector_scale = blocks
         actuator_rank = max(actuator_rank, numerical_rank(actuator, rtol=rtol, scale=actuator_scale).rank)
         if end_effector is None:
             continue
         end_effector_rank = max(end_effector_rank,
                                 numerical_rank(end_effector, rtol=rtol, scale=end_effector_scale).rank)
-        stacked = np.vstack([actuator / max(actuator_scale, 1e-300), end_effector / max(end_effector_scale, 1e-300)])
-        joint_rank = max(joint_rank, numerical_rank(stacked, rtol=rtol, scale=1.0).rank)
+        joint_rank = max(joint_rank, numerical_rank(_stacked(*blocks), rtol=rtol, scale=1.0).rank)
     return Survey(len(points), constraint_rank, actuator_rank, end_effector_rank, joint_rank)
