@@ -29,10 +29,9 @@ from .metrics import manipulability, unit_rows
 from .model import model_of
 from .report import KindResult, Report
 from .second_order import idle_slice, second_order_test
-from .survey import decision_blocks, freedom_rows
-from .survey import survey as survey_mechanism
+from .survey import decision_blocks, freedom_rows, stacked, survey_of
 
-__all__ = ["classify", "classify_many"]
+__all__ = ["classify"]
 
 
 def _kernel(matrix, rank):
@@ -51,8 +50,9 @@ def classify(mechanism, point, survey=None, rng=None, rtol=DEFAULT_RTOL, length_
     point : array_like, shape=[point_size]
         A configuration on M (see :func:`mechanisms.configuration`).
     survey : Survey, optional
-        Largest ranks over M; computed (from the home and `point`) when not given.
-        Pass one survey to classify many configurations consistently.
+        Largest ranks over M; default the model's own, computed once and kept
+        (:func:`classify.survey.survey_of`). Either is raised to the ranks
+        at `point` where they exceed it (:meth:`Survey.including`).
     rng : numpy.random.Generator, optional
         For local sampling, the survey and the second-order test; default
         ``numpy.random.default_rng(0)`` (deterministic).
@@ -88,28 +88,34 @@ def classify(mechanism, point, survey=None, rng=None, rtol=DEFAULT_RTOL, length_
     if np.shape(loop_rows)[-1] == 0:
         notes.append("no loop: an open (serial) chain, M is all of K; check the joints' links if a loop was meant")
 
-    # C-space: rank of DΦ at p against the rank on M near p (dimensionless: DΦ·diag(s))
+    # C-space: rank of DΦ at p against the rank on M near p (dimensionless: DΦ·diag(s)). Where DΦ has the
+    # largest rank the survey found on M, p is a regular point of M and no neighbour is needed.
     basis, constraint_decision = tangent_basis(manifold, point, rtol=rtol)
-    near = local_rank(manifold, point, rng, rtol=rtol)
-    dof = k - near.rank
-    cspace_singular = constraint_decision.rank < near.rank
+    survey = survey_of(model, rtol) if survey is None else survey
+    nearby = _Neighbourhood(manifold, point, rng, rtol)
+    near_rank = (constraint_decision.rank if constraint_decision.rank >= survey.constraint_rank
+                 else nearby.rank)
+    dof = k - near_rank
+    cspace_singular = constraint_decision.rank < near_rank
     cspace_extra = {}
     if cspace_singular:
         cspace_extra = {"kernel_dimension": int(basis.shape[1]), "tangent_cone_dimension": int(dof),
-                        "tangent_cone_span": _secant_span(manifold, point, near.neighbours)}
+                        "tangent_cone_span": _secant_span(manifold, point, nearby.neighbours)}
         notes.append("C-space singularity: actuator and end-effector ranks are computed on ker DΦ(p), "
                      "which is larger than the tangent spaces of M nearby")
-    lost = (scales[:, None] * _kernel_beyond(scaled_jacobian(manifold, point), constraint_decision.rank, near.rank)
+    lost = (scales[:, None] * _kernel_beyond(scaled_jacobian(manifold, point), constraint_decision.rank, near_rank)
             if cspace_singular else np.zeros((k, 0)))
-    cspace = KindResult(cspace_singular, constraint_decision.rank, near.rank, constraint_decision, lost,
+    cspace = KindResult(cspace_singular, constraint_decision.rank, near_rank, constraint_decision, lost,
                         cspace_extra)
 
-    if survey is None:
-        survey = survey_mechanism(model, rng, starts=np.concatenate([model.starts, point[None]]), rtol=rtol)
-
     # actuator: G = (E^½ T)ᵀ(E^½ T), decided on the unit actuator rows (weights and units do not matter)
-    actuator_block, actuator_scale, end_effector_block, end_effector_scale = decision_blocks(model, point, basis)
+    blocks = decision_blocks(model, point, basis)
+    actuator_block, actuator_scale, end_effector_block, end_effector_scale = blocks
     actuator_decision = numerical_rank(actuator_block, rtol=rtol, scale=actuator_scale)
+    n = model.end_effector_dimension
+    end_effector_decision = numerical_rank(end_effector_block, rtol=rtol, scale=end_effector_scale) if n else None
+    survey = _including_point(survey, constraint_decision.rank, actuator_decision,
+                              end_effector_decision, lambda: numerical_rank(stacked(*blocks), rtol=rtol, scale=1.0))
     idle = survey.idle_freedoms(dof)
     expected_actuator = dof - idle
     actuator_singular = actuator_decision.rank < expected_actuator
@@ -120,9 +126,8 @@ def classify(mechanism, point, survey=None, rng=None, rtol=DEFAULT_RTOL, length_
 
     # end-effector: J = Df T, decided on H^½ J over σ₁(H^½ Df·diag(s))
     end_effector = None
-    n = model.end_effector_dimension
     if n:
-        decision = numerical_rank(end_effector_block, rtol=rtol, scale=end_effector_scale)
+        decision = end_effector_decision
         expected = min(n, dof, survey.end_effector_rank)
         singular = decision.rank < expected
         kernel = basis @ _kernel(end_effector_block, decision.rank) if singular else np.zeros((k, 0))
@@ -143,7 +148,7 @@ def classify(mechanism, point, survey=None, rng=None, rtol=DEFAULT_RTOL, length_
         unit_actuators = unit_rows(model.actuators, scales)
         tested, tested_basis = manifold, basis
         if idle:
-            tested, _ = idle_slice(manifold, point, basis, near.neighbours, lambda q: freedom_rows(model, q), idle,
+            tested, _ = idle_slice(manifold, point, basis, nearby.neighbours, lambda q: freedom_rows(model, q), idle,
                                    rtol=rtol)
             if tested is None:
                 notes.append("idle freedoms: no neighbour on M to find their directions; "
@@ -172,34 +177,6 @@ def classify(mechanism, point, survey=None, rng=None, rtol=DEFAULT_RTOL, length_
     )
 
 
-def classify_many(mechanism, points, survey=None, rng=None, **options):
-    """Classify a stack of configurations with one shared survey.
-
-    Parameters
-    ----------
-    mechanism : Mechanism or Model
-    points : array_like, shape=[..., point_size]
-    survey : Survey, optional
-    rng : numpy.random.Generator, optional
-    **options
-        Passed to :func:`classify`.
-
-    Returns
-    -------
-    reports : list of Report, in C order of the batch dimensions
-    """
-    rng = np.random.default_rng(0) if rng is None else rng
-    length_scale = options.pop("length_scale", None)
-    if not isinstance(mechanism, Mechanism) and length_scale is not None:
-        raise ValueError("length_scale applies to a Mechanism; a Model carries its own end-effector metric")
-    model = model_of(mechanism, length_scale) if isinstance(mechanism, Mechanism) else mechanism
-    points = np.asarray(points, dtype=float)
-    flat = points.reshape(-1, points.shape[-1])
-    if survey is None:
-        survey = survey_mechanism(model, rng, starts=np.concatenate([model.starts, flat]))
-    return [classify(model, point, survey=survey, rng=rng, **options) for point in flat]
-
-
 def _kernel_beyond(jacobian, rank, expected):
     """The directions of ker DΦ(p)·diag(s) in excess of the nearby tangent spaces (dimensionless)."""
     _, _, right = np.linalg.svd(jacobian, full_matrices=True)
@@ -213,3 +190,42 @@ def _secant_span(manifold, point, neighbours):
     secants = manifold.ambient.inverse_retract(point, neighbours) / manifold.ambient.tangent_scales
     secants = secants / np.linalg.norm(secants, axis=1, keepdims=True)
     return int(numerical_rank(secants, rtol=1e-2).rank)
+
+
+class _Neighbourhood:
+    """Points of M near p and the largest rank of DΦ among them (:func:`manifold.local_rank`), sampled on
+    first use only: at a point where DΦ has the survey's largest rank no neighbour is needed."""
+
+    def __init__(self, manifold, point, rng, rtol):
+        self._arguments = (manifold, point, rng)
+        self._rtol = rtol
+        self._found = None
+
+    def _local(self):
+        if self._found is None:
+            self._found = local_rank(*self._arguments, rtol=self._rtol)
+        return self._found
+
+    @property
+    def rank(self):
+        return self._local().rank
+
+    @property
+    def neighbours(self):
+        return self._local().neighbours
+
+
+def _including_point(survey, constraint_rank, actuator_decision, end_effector_decision, joint_decision):
+    """The survey raised to the ranks at p (:meth:`Survey.including`); the stacked map's rank
+    (`joint_decision()`, a callable) is computed only where an end-effector makes it count."""
+    if constraint_rank < survey.constraint_rank:
+        return survey
+    if end_effector_decision is None:
+        return survey.including(constraint_rank, actuator_decision.rank)
+    return survey.including(constraint_rank, actuator_decision.rank, end_effector_decision.rank,
+                            joint_decision().rank)
+
+
+def classify_many(*arguments, **options):  # TEMPORARY shim until classify/__init__ imports it from .batch
+    from .batch import classify_many as batched
+    return batched(*arguments, **options)

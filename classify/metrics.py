@@ -22,14 +22,13 @@ from dataclasses import dataclass
 from typing import Optional
 
 import numpy as np
-import scipy.linalg
 
 from mechanisms import actuator_jacobian, end_effector_dimension, kinematics_of
 
 __all__ = [
     "actuator_metric", "weighted_actuator_jacobian", "end_effector_metric",
     "metric_root", "pullback_metric", "Manipulability", "manipulability",
-    "unit_rows", "largest_singular_value",
+    "unit_rows", "largest_singular_value", "proper_values",
 ]
 
 
@@ -140,6 +139,40 @@ class Manipulability:
         }
 
 
+def proper_values(actuator_block, end_effector_block, metric, count):
+    """The manipulability proper values of stacks of configurations.
+
+    The roots of ``det(λG − JᵀHJ) = 0`` with G = AᵀA (Park & Kim 1999,
+    Section 2), computed without forming G: with A = QR (R upper
+    triangular, invertible where G is definite), they are the eigenvalues
+    of ``R⁻ᵀ JᵀHJ R⁻¹ = XᵀX`` for ``X = H^½ J R⁻¹``, i.e. the squared
+    singular values of X. A small λ keeps its relative accuracy (no
+    squared condition number of G).
+
+    Parameters
+    ----------
+    actuator_block : ndarray, shape=[..., a, m]
+        A = E^½ T with a ≥ m and full column rank.
+    end_effector_block : ndarray, shape=[..., n, m]
+        J = Df T.
+    metric : ndarray, shape=[n, n]
+        H.
+    count : int
+        How many to keep, at most min(n, m).
+
+    Returns
+    -------
+    ndarray, shape=[..., count]
+        λ₁ ≥ λ₂ ≥ … ≥ λ_count.
+    """
+    triangular = np.linalg.qr(np.asarray(actuator_block, dtype=float), mode="r")
+    weighted = metric_root(metric) @ np.asarray(end_effector_block, dtype=float)
+    transformed = np.linalg.solve(np.swapaxes(triangular, -1, -2), np.swapaxes(weighted, -1, -2))  # Xᵀ
+    if transformed.shape[-1] == 0 or transformed.shape[-2] == 0:
+        return np.zeros(transformed.shape[:-2] + (0,))
+    return np.linalg.svd(transformed, compute_uv=False)[..., :count] ** 2
+
+
 def manipulability(actuator_block, end_effector_block, metric, count, rank=None, rtol=1e-6):
     """Manipulability proper values from the actuator and end-effector Jacobians on T_pM.
 
@@ -163,10 +196,7 @@ def manipulability(actuator_block, end_effector_block, metric, count, rank=None,
     -------
     Manipulability
     """
-    gram = actuator_block.T @ actuator_block
-    pulled = end_effector_block.T @ metric @ end_effector_block
-    values = scipy.linalg.eigh(pulled, gram, eigvals_only=True)
-    values = np.sort(np.clip(values, 0.0, None))[::-1][:count]
+    values = proper_values(actuator_block, end_effector_block, metric, count)
     largest = values[0] if len(values) else 0.0
     smallest = values[-1] if len(values) else 0.0
     vanishing = (rank < count) if rank is not None else smallest <= rtol * largest

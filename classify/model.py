@@ -9,7 +9,7 @@ the five-bar, and both are classified by the same code.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from typing import Callable, Optional
 
 import numpy as np
@@ -48,6 +48,14 @@ class Model:
         H in that chart.
     describe : callable, optional
         ``describe(point) -> dict`` for the report (joint displacements).
+    mechanism : Mechanism, optional
+        The joint graph the model was made from (:func:`model_of`), if any.
+
+    Attributes
+    ----------
+    cache : dict
+        What is computed once per model and reused (its survey,
+        :func:`classify.survey.survey_of`); not copied by ``dataclasses.replace``.
     """
 
     name: str
@@ -58,6 +66,8 @@ class Model:
     end_effector_jacobian: Optional[Callable] = None
     end_effector_metric: Optional[np.ndarray] = None
     describe: Optional[Callable] = None
+    mechanism: Optional[object] = None
+    cache: dict = field(default_factory=dict, init=False, repr=False)
 
     @property
     def end_effector_dimension(self):
@@ -65,7 +75,11 @@ class Model:
 
 
 def model_of(mechanism, length_scale=None):
-    """The :class:`Model` of a joint-graph mechanism.
+    """The :class:`Model` of a joint-graph mechanism, one per mechanism object and length scale.
+
+    The model is kept on the mechanism, so what is computed once per model
+    (its survey of M, :func:`classify.survey.survey_of`) is reused by every
+    later call with the same mechanism.
 
     Parameters
     ----------
@@ -73,6 +87,14 @@ def model_of(mechanism, length_scale=None):
     length_scale : float, optional
         L of the SE(2)/SE(3) end-effector metric (default the characteristic length).
     """
+    models = mechanism.__dict__.setdefault("_models", {})
+    key = None if length_scale is None else float(length_scale)
+    if key not in models:
+        models[key] = _new_model(mechanism, length_scale)
+    return models[key]
+
+
+def _new_model(mechanism, length_scale):
     has_end_effector = end_effector_dimension(mechanism) > 0
     return Model(
         name=mechanism.name,
@@ -83,6 +105,7 @@ def model_of(mechanism, length_scale=None):
         end_effector_jacobian=(lambda point: end_effector_jacobian(mechanism, point)) if has_end_effector else None,
         end_effector_metric=end_effector_metric(mechanism, length_scale) if has_end_effector else None,
         describe=lambda point: to_displacements(mechanism, point),
+        mechanism=mechanism,
     )
 
 

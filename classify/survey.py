@@ -23,7 +23,10 @@ from manifold import DEFAULT_RTOL, numerical_rank, sample_manifold, tangent_basi
 
 from .metrics import largest_singular_value, metric_root, unit_rows
 
-__all__ = ["Survey", "survey", "decision_rows", "decision_blocks", "freedom_rows"]
+__all__ = ["Survey", "survey", "survey_of", "decision_rows", "decision_blocks", "freedom_rows", "stacked", "SURVEY_SEED"]
+
+#: seed of the survey a model keeps (:func:`survey_of`): the same survey in every call and process
+SURVEY_SEED = 0
 
 
 @dataclass(frozen=True, eq=False)
@@ -75,10 +78,97 @@ class Survey:
         """i = m − the largest rank of the stacked map (of G without end-effector), for m = `dof`."""
         return max(0, dof - self.freedom_rank)
 
+    def including(self, constraint_rank, actuator_rank=None, end_effector_rank=None, joint_rank=None):
+        """This survey with the ranks of one more point of M: each largest rank raised to the point's.
+
+        A point of M where DΦ has a larger rank than the survey found proves
+        the survey missed part of M; the other ranks of a point count only
+        where DΦ has its largest rank (at a C-space singularity ker DΦ is
+        larger than the tangent spaces of M), and only when given.
+
+        Parameters
+        ----------
+        constraint_rank : int
+            Rank of DΦ·diag(s) at the point.
+        actuator_rank, end_effector_rank, joint_rank : int, optional
+            Ranks of the unit actuator rows, H^½Df and the stacked map on ker DΦ at the point.
+
+        Returns
+        -------
+        Survey
+            `self` when nothing is raised.
+        """
+        if constraint_rank > self.constraint_rank:
+            raised = Survey(self.samples, constraint_rank, 0, None if self.end_effector_rank is None else 0,
+                            None if self.joint_rank is None else 0)
+            return raised.including(constraint_rank, actuator_rank, end_effector_rank, joint_rank)
+        if constraint_rank < self.constraint_rank or actuator_rank is None:
+            return self
+        ranks = (max(self.actuator_rank, actuator_rank),
+                 _larger(self.end_effector_rank, end_effector_rank), _larger(self.joint_rank, joint_rank))
+        if ranks == (self.actuator_rank, self.end_effector_rank, self.joint_rank):
+            return self
+        return Survey(self.samples, self.constraint_rank, *ranks)
+
     def to_dict(self):
         return {"samples": self.samples, "constraint_rank": self.constraint_rank,
                 "actuator_rank": self.actuator_rank, "end_effector_rank": self.end_effector_rank,
                 "joint_rank": self.joint_rank}
+
+    @classmethod
+    def from_dict(cls, data, where="survey"):
+        """The survey of :meth:`to_dict` (e.g. the ``survey`` block of a JSON report).
+
+        Raises
+        ------
+        ValueError
+            Naming the field, if a field is missing or not a non-negative integer (``null`` allowed for
+            ``end_effector_rank`` and ``joint_rank``).
+        """
+        if not isinstance(data, dict):
+            raise ValueError(f"{where}: expected an object with the fields of a survey, got {type(data).__name__}")
+        values = {}
+        for name in ("samples", "constraint_rank", "actuator_rank", "end_effector_rank", "joint_rank"):
+            value = data.get(name)
+            optional = name in ("end_effector_rank", "joint_rank")
+            if value is None and optional:
+                values[name] = None
+                continue
+            if isinstance(value, bool) or not isinstance(value, int) or value < 0:
+                raise ValueError(f"{where}: field {name!r}: expected a non-negative integer, got {value!r}")
+            values[name] = value
+        return cls(**values)
+
+
+def _larger(first, second):
+    """The larger of two ranks, None when the first is None (no end-effector)."""
+    return first if first is None or second is None else max(first, second)
+
+
+def survey_of(model, rtol=DEFAULT_RTOL):
+    """The survey of a model, computed once and kept on the model.
+
+    The survey belongs to the mechanism, not to a call: the first call
+    samples M from ``model.starts`` with ``numpy.random.default_rng(SURVEY_SEED)``;
+    every later call with the same model (and `rtol`) returns the same
+    :class:`Survey` without sampling M again. :func:`classify.model_of`
+    returns one model per mechanism object, so classifying a second
+    configuration of a mechanism does not resample M.
+
+    Parameters
+    ----------
+    model : Model
+    rtol : float
+
+    Returns
+    -------
+    Survey
+    """
+    key = ("survey", float(rtol))
+    cached = model.cache.get(key)
+    if cached is None:
+        cached = model.cache[key] = survey(model, np.random.default_rng(SURVEY_SEED), rtol=rtol)
+    return cached
 
 
 def decision_rows(model, point):
@@ -117,7 +207,7 @@ def decision_blocks(model, point, basis):
             end_effector_scale)
 
 
-def _stacked(actuator, actuator_scale, end_effector, end_effector_scale):
+def stacked(actuator, actuator_scale, end_effector, end_effector_scale):
     """The actuator rows over their scale, with the end-effector rows over theirs below them (if any):
     the map whose kernel is the idle freedoms, decided with reference scale 1."""
     rows = [actuator / max(actuator_scale, 1e-300)]
@@ -129,7 +219,7 @@ def _stacked(actuator, actuator_scale, end_effector, end_effector_scale):
 def freedom_rows(model, point):
     """The stacked dimensionless rows at `point` whose kernel on T_qM is the idle freedoms, shape=[a + n, k]
     (the actuator rows alone without end-effector)."""
-    return _stacked(*decision_rows(model, point))
+    return stacked(*decision_rows(model, point))
 
 
 def survey(model, rng, starts=None, random_count=24, walk_count=24, rtol=DEFAULT_RTOL):
@@ -165,5 +255,5 @@ def survey(model, rng, starts=None, random_count=24, walk_count=24, rtol=DEFAULT
             continue
         end_effector_rank = max(end_effector_rank,
                                 numerical_rank(end_effector, rtol=rtol, scale=end_effector_scale).rank)
-        joint_rank = max(joint_rank, numerical_rank(_stacked(*blocks), rtol=rtol, scale=1.0).rank)
+        joint_rank = max(joint_rank, numerical_rank(stacked(*blocks), rtol=rtol, scale=1.0).rank)
     return Survey(len(points), constraint_rank, actuator_rank, end_effector_rank, joint_rank)

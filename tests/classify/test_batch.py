@@ -1,26 +1,154 @@
-"""A stack of configurations classified at once equals one at a time (shared survey)."""
+"""A stack of configurations classified at once equals one at a time, item by item (issue 11).
+
+Every catalogue mechanism, at each of its named configurations (the papers'
+singular ones among them: Park & Kim 1999, Gosselin & Angeles 1990,
+Chablat et al. 2002, Chablat, Wenger & Angeles 1998, Borràs, Thomas & Torras
+2011) and at configurations sampled over M with a seeded generator.
+"""
+
+import importlib
+import json
 
 import numpy as np
+import pytest
 
-from builders import five_bar, five_bar_positions
-from classify import classify, classify_many, model_of, survey
-from manifold import project
-from mechanisms import configuration_space, home, kinematics_of
+from classify import KINDS, Survey, classify, model_of
+from classify.batch import classify_many
+from classify.survey import survey_of
+from manifold import sample_manifold
+from mechanisms import ConfigurationError, catalogue
+
+#: the module (``classify.survey`` the attribute is the function it exports)
+survey_module = importlib.import_module("classify.survey")
 
 
-def test_classify_many_equals_single_calls():
-    mechanism = five_bar(five_bar_positions(1.2, 2.0))
-    manifold = configuration_space(mechanism)
-    space = kinematics_of(mechanism).ambient
-    rng = np.random.default_rng(30)
-    points = np.array([project(manifold, space.retract(home(mechanism), 0.3 * rng.standard_normal(5)))
-                       for _ in range(4)]).reshape(2, 2, -1)
-    shared = survey(model_of(mechanism), np.random.default_rng(31))
-    batched = classify_many(mechanism, points, survey=shared, rng=np.random.default_rng(32))
-    singles = [classify(mechanism, point, survey=shared, rng=np.random.default_rng(32))
-               for point in points.reshape(-1, points.shape[-1])]
-    assert len(batched) == 4
-    for many, one in zip(batched, singles):
-        assert many.to_dict()["kinds"] == one.to_dict()["kinds"]
-        np.testing.assert_allclose(many.manipulability.eigenvalues, one.manipulability.eigenvalues, rtol=1e-12)
-        assert many.actuator.rank == one.actuator.rank and many.end_effector.rank == one.end_effector.rank
+def _stack(model, seed, walk_count=3):
+    """The home and a few configurations of M sampled from it (seeded)."""
+    samples = sample_manifold(model.manifold, np.random.default_rng(seed), model.starts, random_count=2,
+                              walk_count=walk_count)
+    return np.concatenate([model.starts, samples[1:]])
+
+
+def _assert_equal(result, index, report):
+    """Row `index` of a batch equals the report of the same configuration."""
+    assert result.kinds(index) == report.kinds
+    assert result.dof[index] == report.dof
+    assert result.idle_freedoms[index] == report.idle_freedoms
+    assert result.moving_idle_freedoms[index] == report.moving_idle_freedoms
+    kinds = {"actuator": report.actuator, "cspace": report.cspace, "end_effector": report.end_effector}
+    for kind in KINDS:
+        if kinds[kind] is None:
+            assert result.ranks[kind][index] == -1
+            continue
+        assert result.ranks[kind][index] == kinds[kind].rank, kind
+        assert result.expected_ranks[kind][index] == kinds[kind].expected_rank, kind
+        kept, dropped = kinds[kind].decision.margin
+        expected = [np.nan if kept is None else kept, np.nan if dropped is None else dropped]
+        np.testing.assert_allclose(result.margins[kind][index], expected, rtol=1e-9, atol=1e-14)
+        np.testing.assert_allclose(result.tolerances[kind][index], kinds[kind].decision.tolerance, rtol=1e-9)
+    if report.manipulability is None:
+        assert np.isnan(result.eigenvalues[index]).all()
+    else:
+        values = report.manipulability.eigenvalues
+        np.testing.assert_allclose(result.eigenvalues[index, :len(values)], values, rtol=1e-9,
+                                   atol=1e-9 * values[0])
+        condition = report.manipulability.condition_number
+        assert np.isnan(result.condition_number[index]) == (condition is None)
+    second = report.second_order
+    assert result.degenerate[index] == (-1 if second is None else
+                                        {"degenerate": 1, "nondegenerate": 0, "undetermined": -1}[second.degeneracy])
+
+
+CASES = [(entry.name, configuration) for entry in catalogue.entries()
+         for configuration in (None, *entry.configurations)]
+
+
+@pytest.mark.parametrize("name, configuration", CASES, ids=[f"{name}-{configuration}" for name, configuration in CASES])
+def test_batch_equals_single_calls_on_the_catalogue(name, configuration):
+    mechanism = catalogue.entry(name).mechanism(configuration)
+    model = model_of(mechanism)
+    points = _stack(model, seed=hash((name, configuration)) % 2**32) if configuration is None else model.starts
+    result = classify_many(mechanism, points)
+    assert len(result) == len(points) and result.shape == (len(points),)
+    for index, point in enumerate(points):
+        _assert_equal(result, index, classify(mechanism, point))
+
+
+def test_batch_shape_order_and_chunks():
+    mechanism = catalogue.entry("five-bar").mechanism()
+    model = model_of(mechanism)
+    points = _stack(model, seed=3, walk_count=8)[:6].reshape(2, 3, -1)
+    whole = classify_many(model, points)
+    pieces = classify_many(model, points, chunk=1)
+    assert whole.shape == (2, 3) and len(whole) == 6
+    np.testing.assert_array_equal(whole.points, points.reshape(6, -1))
+    for name in ("singular", "dof", "degenerate"):
+        np.testing.assert_array_equal(getattr(whole, name), getattr(pieces, name))
+    np.testing.assert_array_equal(whole.eigenvalues, pieces.eigenvalues)
+
+
+def test_a_point_off_the_c_space_is_named_by_its_index():
+    mechanism = catalogue.entry("five-bar").mechanism()
+    points = np.repeat(model_of(mechanism).starts, 3, axis=0)
+    points[2, 0] += 0.1
+    with pytest.raises(ConfigurationError, match="configuration 2"):
+        classify_many(mechanism, points)
+
+
+def test_rows_json_lines_and_arrays_agree():
+    mechanism = catalogue.entry("slider-crank").mechanism("fig3a_self_intersection")
+    model = model_of(mechanism)
+    points = np.concatenate([model.starts, _stack(model, seed=4)])
+    result = classify_many(model, points)
+    lines = result.json_lines().splitlines()
+    assert len(lines) == len(points)
+    for index, line in enumerate(lines):
+        row = json.loads(line)
+        assert row == result.rows()[index]
+        assert tuple(row["kinds"]) == result.kinds(index)
+        assert row["ranks"]["actuator"] == result.ranks["actuator"][index]
+    arrays = result.arrays()
+    np.testing.assert_array_equal(arrays["rank_cspace"], result.ranks["cspace"])
+    np.testing.assert_array_equal(arrays["singular"], result.singular)
+    assert result.kinds(0) == classify(mechanism, points[0]).kinds and result.kinds(0)  # fig. 3a is singular
+
+
+def test_the_survey_is_computed_once_per_mechanism(monkeypatch):
+    calls = []
+    original = survey_module.survey
+
+    def counted(*arguments, **options):
+        calls.append(1)
+        return original(*arguments, **options)
+
+    monkeypatch.setattr(survey_module, "survey", counted)
+    mechanism = catalogue.entry("five-bar").mechanism()
+    model = model_of(mechanism)
+    assert model_of(mechanism) is model
+    points = _stack(model, seed=5)
+    first = classify(mechanism, points[0])
+    classify(mechanism, points[1])
+    classify_many(mechanism, points)
+    assert len(calls) == 1
+    assert first.survey["samples"] == survey_of(model).samples
+
+
+def test_the_survey_is_raised_to_the_ranks_at_a_point():
+    mechanism = catalogue.entry("five-bar").mechanism()
+    model = model_of(mechanism)
+    point = model.starts[0]
+    wrong = Survey(samples=1, constraint_rank=3, actuator_rank=1, end_effector_rank=1, joint_rank=1)
+    single = classify(model, point, survey=wrong)
+    batch = classify_many(model, point[None], survey=wrong)
+    right = classify(model, point)
+    assert single.kinds == right.kinds == batch.kinds(0)
+    assert single.actuator.expected_rank == right.actuator.expected_rank == batch.expected_ranks["actuator"][0]
+
+
+def test_survey_dict_round_trip_and_errors():
+    survey = survey_of(model_of(catalogue.entry("slider-crank").mechanism()))
+    assert Survey.from_dict(json.loads(json.dumps(survey.to_dict()))).to_dict() == survey.to_dict()
+    with pytest.raises(ValueError, match="'actuator_rank'"):
+        Survey.from_dict({**survey.to_dict(), "actuator_rank": -1})
+    with pytest.raises(ValueError, match="'samples'"):
+        Survey.from_dict({**survey.to_dict(), "samples": True})
