@@ -310,11 +310,7 @@ def _first_order(model, points, survey, rtol, offset):
     k = manifold.ambient.dim
     scales = manifold.ambient.tangent_scales
     jacobian = scaled_jacobian(manifold, points)
-    if jacobian.shape[-2] == 0:
-        constraint_values = np.zeros((count, 0))
-        right = np.broadcast_to(np.eye(k), (count, k, k))
-    else:
-        _, constraint_values, right = np.linalg.svd(jacobian, full_matrices=True)
+    constraint_values = _singular_values(jacobian)
     constraint_tolerance = np.maximum(rtol * (constraint_values[:, 0] if constraint_values.shape[1] else 0.0),
                                       DEFAULT_ATOL)
     constraint_ranks, constraint_margins = _decisions(constraint_values, constraint_tolerance)
@@ -327,10 +323,30 @@ def _first_order(model, points, survey, rtol, offset):
     regular = np.flatnonzero(~full)
     for rank in np.unique(constraint_ranks[regular]):
         group = regular[constraint_ranks[regular] == rank]
-        basis = scales[:, None] * np.swapaxes(right[group, rank:, :], -1, -2)  # [g, k, m]
+        basis = scales[:, None] * _kernel_bases(jacobian[group], int(rank))  # [g, k, m]
         _regular_columns(model, points[group], basis, int(rank), survey, rtol, columns, group)
     columns["full"] = full | columns["singular"][:, KINDS.index("actuator")]
     return columns
+
+
+def _kernel_bases(matrices, rank):
+    """Orthonormal bases of the kernels of a stack of matrices of one numerical rank, shape=[b, columns,
+    columns − rank].
+
+    Of full row rank (``rank`` = rows, the usual case of loop rows), the last
+    columns of the complete QR factors of the transposes (Householder QR:
+    backward stable, and cheaper than the SVD); otherwise the right singular
+    vectors beyond the rank, as :func:`manifold.tangent_basis`. Either spans
+    the same subspace; a basis is only ever used through quantities that do
+    not depend on which orthonormal basis it is (singular values, λ's).
+    """
+    count, rows, columns = matrices.shape
+    if rows == 0:
+        return np.broadcast_to(np.eye(columns), (count, columns, columns))
+    if rank == rows and rows <= columns:
+        orthogonal = np.linalg.qr(np.swapaxes(matrices, -1, -2), mode="complete")[0]
+        return orthogonal[:, :, rank:]
+    return np.swapaxes(np.linalg.svd(matrices, full_matrices=True)[2][:, rank:, :], -1, -2)
 
 
 def _empty_columns(model, count):
@@ -361,23 +377,27 @@ def _regular_columns(model, points, basis, constraint_rank, survey, rtol, column
     unit_actuators = unit_rows(model.actuators, scales)
     actuator_scale = largest_singular_value(unit_actuators * scales)
     actuator_tolerance = max(rtol * actuator_scale, DEFAULT_ATOL)
-    actuator_ranks, actuator_margins = _decisions(_singular_values(unit_actuators @ basis), actuator_tolerance)
+    actuator_block = unit_actuators @ basis  # [g, a, m]
+    actuator_ranks, actuator_margins = _decisions(_singular_values(actuator_block), actuator_tolerance)
     n = model.end_effector_dimension
     if n:
-        end_effector_rows = metric_root(model.end_effector_metric) @ np.broadcast_to(
-            model.end_effector_jacobian(points), (count, n, k))
+        end_effector_jacobian = np.broadcast_to(model.end_effector_jacobian(points), (count, n, k))
+        end_effector_rows = metric_root(model.end_effector_metric) @ end_effector_jacobian
         end_effector_scale = _largest(end_effector_rows * scales)
         end_effector_tolerance = np.maximum(rtol * end_effector_scale, DEFAULT_ATOL)
         end_effector_block = end_effector_rows @ basis
         end_effector_ranks, end_effector_margins = _decisions(_singular_values(end_effector_block),
                                                               end_effector_tolerance)
+    raised = constraint_rank > survey.constraint_rank
+    if n and (raised or survey.joint_rank < dof):  # else the stacked rank cannot raise the survey's
         stacked = np.concatenate([
-            np.broadcast_to(unit_actuators @ basis / max(actuator_scale, 1e-300), (count,) + (len(unit_actuators),
-                                                                                              dof)),
+            actuator_block / max(actuator_scale, 1e-300),
             end_effector_block / np.maximum(end_effector_scale, 1e-300)[:, None, None]], axis=1)
         joint_ranks = _decisions(_singular_values(stacked), max(rtol, DEFAULT_ATOL))[0]  # reference scale 1
+    elif n:
+        joint_ranks = np.zeros(count, dtype=int)
     # the survey raised to each configuration's own ranks (Survey.including), as classify does
-    if constraint_rank > survey.constraint_rank:
+    if raised:
         actuator_largest = actuator_ranks
         end_effector_largest = end_effector_ranks if n else None
         joint_largest = joint_ranks if n else None
@@ -409,8 +429,7 @@ def _regular_columns(model, points, basis, constraint_rank, survey, rtol, column
     columns["singular"][rows, KINDS.index("end_effector")] = end_effector_ranks < expected_end_effector
     definite = np.flatnonzero(actuator_ranks == dof) if dof > 0 else np.zeros(0, dtype=int)
     if len(definite):
-        jacobian = np.broadcast_to(model.end_effector_jacobian(points[definite]), (len(definite), n, k))
-        values = proper_values(model.actuators @ basis[definite], jacobian @ basis[definite],
+        values = proper_values(model.actuators @ basis[definite], end_effector_jacobian[definite] @ basis[definite],
                                model.end_effector_metric, min(n, dof))
         vanishing = end_effector_ranks[definite] < min(n, dof)
         smallest = values[:, -1]
@@ -421,9 +440,13 @@ def _regular_columns(model, points, basis, constraint_rank, survey, rtol, column
 
 
 def _largest(matrices):
-    """σ₁ of each matrix of a stack, shape=[b] (0 for empty matrices)."""
-    values = _singular_values(matrices)
-    return values[:, 0] if values.shape[1] else np.zeros(len(matrices))
+    """σ₁ of each matrix of a stack, shape=[b] (0 for empty matrices): the square root of the largest
+    eigenvalue of the smaller Gram matrix (relative accuracy of the order of the rounding unit)."""
+    if matrices.shape[-1] == 0 or matrices.shape[-2] == 0:
+        return np.zeros(len(matrices))
+    transposed = np.swapaxes(matrices, -1, -2)
+    gram = matrices @ transposed if matrices.shape[-2] <= matrices.shape[-1] else transposed @ matrices
+    return np.sqrt(np.clip(np.linalg.eigvalsh(gram)[:, -1], 0.0, None))
 
 
 def _concatenated(parts, model, count):
