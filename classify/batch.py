@@ -163,6 +163,11 @@ class Classifications:
             })
         return rows
 
+    def to_dict(self):
+        """The whole result for JSON: mechanism, batch shape, survey and :meth:`rows`."""
+        return {"mechanism": self.mechanism, "shape": list(self.shape), "survey": self.survey.to_dict(),
+                "rows": self.rows()}
+
     def json_lines(self):
         """:meth:`rows` as JSON lines (one object per configuration, each ending with a newline)."""
         return "".join(json.dumps(row, allow_nan=False) + "\n" for row in self.rows())

@@ -112,6 +112,9 @@ def test_rows_json_lines_and_arrays_agree():
         assert row == result.rows()[index]
         assert tuple(row["kinds"]) == result.kinds(index)
         assert row["ranks"]["actuator"] == result.ranks["actuator"][index]
+    whole = json.loads(json.dumps(result.to_dict()))
+    assert whole["rows"] == result.rows() and whole["shape"] == [len(points)]
+    assert whole["survey"] == result.survey.to_dict()
     arrays = result.arrays()
     np.testing.assert_array_equal(arrays["rank_cspace"], result.ranks["cspace"])
     np.testing.assert_array_equal(arrays["singular"], result.singular)

@@ -1,0 +1,58 @@
+"""A survey cache file: the survey of M reused across processes, refused when made for something else."""
+
+import json
+
+import pytest
+
+from classify import model_of
+from classify.survey import survey_of
+from classify.survey_cache import SurveyCacheError, cached_survey, read_survey, write_survey
+from mechanisms import catalogue
+
+
+def test_written_then_read_and_installed_on_a_new_model(tmp_path):
+    path = tmp_path / "five-bar.survey.json"
+    first = model_of(catalogue.entry("five-bar").mechanism())
+    survey, read = cached_survey(path, first)
+    assert not read and path.exists()
+    second = model_of(catalogue.entry("five-bar").mechanism())  # another object, the same mechanism
+    assert second is not first
+    again, read = cached_survey(path, second)
+    assert read and again.to_dict() == survey.to_dict()
+    assert survey_of(second) is again
+
+
+def test_a_file_for_another_mechanism_or_cut_is_refused(tmp_path):
+    path = tmp_path / "survey.json"
+    five_bar = model_of(catalogue.entry("five-bar").mechanism())
+    write_survey(path, five_bar, survey_of(five_bar))
+    other = model_of(catalogue.entry("five-bar").mechanism(base=5.5))
+    with pytest.raises(SurveyCacheError, match="another mechanism"):
+        read_survey(path, other)
+    with pytest.raises(SurveyCacheError, match="another mechanism"):
+        read_survey(path, five_bar, rtol=1e-8)
+    assert read_survey(tmp_path / "missing.json", five_bar) is None
+
+
+@pytest.mark.parametrize("text, message", [
+    ("{", "not a JSON file"),
+    ("[]", "not a closedchain survey cache"),
+    ('{"format": "closedchain-survey"}', "another mechanism"),
+])
+def test_malformed_files_are_refused_naming_the_file(tmp_path, text, message):
+    path = tmp_path / "bad.json"
+    path.write_text(text)
+    with pytest.raises(SurveyCacheError, match=message) as error:
+        read_survey(path, model_of(catalogue.entry("slider-crank").mechanism()))
+    assert "bad.json" in str(error.value)
+
+
+def test_a_tampered_survey_field_is_named(tmp_path):
+    path = tmp_path / "survey.json"
+    model = model_of(catalogue.entry("slider-crank").mechanism())
+    write_survey(path, model, survey_of(model))
+    data = json.loads(path.read_text())
+    data["survey"]["actuator_rank"] = "two"
+    path.write_text(json.dumps(data))
+    with pytest.raises(SurveyCacheError, match="'actuator_rank'"):
+        read_survey(path, model)
