@@ -2,39 +2,62 @@
 
 Metrics E, G, H and manipulability proper values; the three kinds of
 singularity with their expected ranks; the second-order test for actuator
-singularities; reports. Imports :mod:`mechanisms` and :mod:`manifold`.
+singularities; batches of configurations; reports. Imports :mod:`mechanisms`
+and :mod:`manifold`.
+
+The names below are imported on first use (PEP 562), so that importing a
+light submodule (the command line's, :mod:`classify.text`) does not import
+SymPy or SciPy: ``from classify import classify`` works as usual.
 """
 
-from .classification import classify, classify_many
-from .comparison import (
-    REASONS, Comparison, ComparisonRow, compare, comparison_row, correspondence, expected_kinds, sample_configurations,
-)
-from .gosselin_angeles import (
-    GA_KINDS, GosselinAngeles, InputOutputRelation, derived_gosselin_angeles, gosselin_angeles,
-    kinds_of_matrices, relation_from_callables, relation_from_sympy,
-)
-from .metrics import (
-    Manipulability, actuator_metric, end_effector_metric, manipulability,
-    metric_root, pullback_metric, weighted_actuator_jacobian,
-)
-from .model import Model, joint_output_model, model_of
-from .paths import path_configurations, singular_crossings
-from .report import KINDS, KindResult, Report
-from .higher_order import HigherOrderResult, higher_order_test
-from .second_order import SECOND_ORDER_RTOL, SecondOrderResult, SelfMotion, fibre, second_order_test
-from .survey import Survey, survey
+import importlib
+import sys
+import types
 
-__all__ = [
-    "classify", "classify_many",
-    "REASONS", "Comparison", "ComparisonRow", "compare", "comparison_row", "correspondence", "expected_kinds",
-    "sample_configurations", "path_configurations", "singular_crossings",
-    "GA_KINDS", "GosselinAngeles", "InputOutputRelation", "derived_gosselin_angeles", "gosselin_angeles",
-    "kinds_of_matrices", "relation_from_callables", "relation_from_sympy",
-    "Manipulability", "actuator_metric", "end_effector_metric", "manipulability",
-    "metric_root", "pullback_metric", "weighted_actuator_jacobian",
-    "Model", "joint_output_model", "model_of",
-    "KINDS", "KindResult", "Report",
-    "SECOND_ORDER_RTOL", "SecondOrderResult", "SelfMotion", "fibre", "second_order_test",
-    "HigherOrderResult", "higher_order_test",
-    "Survey", "survey",
-]
+#: exported name → the submodule that defines it (imported when the name is first used)
+_SOURCES = {
+    "classify": ".classification",
+    "classify_many": ".batch", "Classifications": ".batch",
+    **dict.fromkeys(("REASONS", "Comparison", "ComparisonRow", "compare", "comparison_row", "correspondence",
+                     "expected_kinds", "sample_configurations"), ".comparison"),
+    **dict.fromkeys(("GA_KINDS", "GosselinAngeles", "InputOutputRelation", "derived_gosselin_angeles",
+                     "gosselin_angeles", "kinds_of_matrices", "relation_from_callables", "relation_from_sympy"),
+                    ".gosselin_angeles"),
+    **dict.fromkeys(("Manipulability", "actuator_metric", "end_effector_metric", "manipulability", "metric_root",
+                     "pullback_metric", "weighted_actuator_jacobian"), ".metrics"),
+    **dict.fromkeys(("Model", "joint_output_model", "model_of"), ".model"),
+    **dict.fromkeys(("path_configurations", "singular_crossings"), ".paths"),
+    **dict.fromkeys(("KINDS", "KindResult", "Report"), ".report"),
+    **dict.fromkeys(("HigherOrderResult", "higher_order_test"), ".higher_order"),
+    **dict.fromkeys(("SECOND_ORDER_RTOL", "SecondOrderResult", "SelfMotion", "fibre", "second_order_test"),
+                    ".second_order"),
+    **dict.fromkeys(("Survey", "survey", "survey_of"), ".survey"),
+}
+
+__all__ = list(_SOURCES)
+
+
+def __getattr__(name):
+    """The exported `name`, its submodule imported on first use."""
+    if name not in _SOURCES:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    value = getattr(importlib.import_module(_SOURCES[name], __name__), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__():
+    return sorted(set(globals()) | set(_SOURCES))
+
+
+class _Package(types.ModuleType):
+    """This package, whose exported ``survey`` (the function) a later import of :mod:`classify.survey` (the
+    module, which the import system sets as an attribute of its package) does not hide."""
+
+    def __setattr__(self, name, value):
+        if name in _SOURCES and isinstance(value, types.ModuleType):
+            return
+        super().__setattr__(name, value)
+
+
+sys.modules[__name__].__class__ = _Package

@@ -225,7 +225,3 @@ def _including_point(survey, constraint_rank, actuator_decision, end_effector_de
     return survey.including(constraint_rank, actuator_decision.rank, end_effector_decision.rank,
                             joint_decision().rank)
 
-
-def classify_many(*arguments, **options):  # TEMPORARY shim until classify/__init__ imports it from .batch
-    from .batch import classify_many as batched
-    return batched(*arguments, **options)

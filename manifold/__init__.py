@@ -3,28 +3,35 @@
 Knows nothing about mechanisms: an :class:`AmbientSpace` (ℝ, S¹, SO(3)
 factors with recentred charts), an :class:`ImplicitManifold` Φ⁻¹(0) with its
 derivatives, projection onto it, rank decisions, sampling and continuation.
+
+The names below are imported on first use (PEP 562): importing
+:mod:`manifold.errors` alone costs nothing more.
 """
 
-from .ambient import FACTORS, AmbientSpace, rotation_exp, rotation_log
-from .continuation import CurveCertificate, continue_curve
-from .errors import ContinuationError, ManifoldError, ProjectionError
-from .implicit import (
-    ImplicitManifold,
-    constraint_curvature,
-    normal_basis,
-    project,
-    residual,
-    scaled_jacobian,
-    tangent_basis,
-)
-from .rank import DEFAULT_ATOL, DEFAULT_RTOL, RankDecision, numerical_rank
-from .sampling import LocalRank, largest_rank, local_rank, sample_manifold
+import importlib
 
-__all__ = [
-    "FACTORS", "AmbientSpace", "rotation_exp", "rotation_log",
-    "CurveCertificate", "continue_curve",
-    "ContinuationError", "ManifoldError", "ProjectionError",
-    "ImplicitManifold", "constraint_curvature", "normal_basis", "project", "residual", "scaled_jacobian", "tangent_basis",
-    "DEFAULT_ATOL", "DEFAULT_RTOL", "RankDecision", "numerical_rank",
-    "LocalRank", "largest_rank", "local_rank", "sample_manifold",
-]
+#: exported name → the submodule that defines it (imported when the name is first used)
+_SOURCES = {
+    **dict.fromkeys(("FACTORS", "AmbientSpace", "rotation_exp", "rotation_log"), ".ambient"),
+    **dict.fromkeys(("CurveCertificate", "continue_curve"), ".continuation"),
+    **dict.fromkeys(("ContinuationError", "ManifoldError", "ProjectionError"), ".errors"),
+    **dict.fromkeys(("ImplicitManifold", "constraint_curvature", "normal_basis", "project", "residual",
+                     "scaled_jacobian", "tangent_basis"), ".implicit"),
+    **dict.fromkeys(("DEFAULT_ATOL", "DEFAULT_RTOL", "RankDecision", "numerical_rank"), ".rank"),
+    **dict.fromkeys(("LocalRank", "largest_rank", "local_rank", "sample_manifold"), ".sampling"),
+}
+
+__all__ = list(_SOURCES)
+
+
+def __getattr__(name):
+    """The exported `name`, its submodule imported on first use."""
+    if name not in _SOURCES:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    value = getattr(importlib.import_module(_SOURCES[name], __name__), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__():
+    return sorted(set(globals()) | set(_SOURCES))

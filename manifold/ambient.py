@@ -24,7 +24,6 @@ from __future__ import annotations
 from dataclasses import dataclass, field
 
 import numpy as np
-from scipy.spatial.transform import Rotation
 
 __all__ = ["FACTORS", "AmbientSpace", "rotation_exp", "rotation_log"]
 
@@ -43,6 +42,8 @@ def rotation_exp(rotation_vector):
     -------
     rotation : ndarray, shape=[..., 3, 3]
     """
+    from scipy.spatial.transform import Rotation  # imported when used: scipy.spatial is slow to import
+
     rotation_vector = np.asarray(rotation_vector, dtype=float)
     flat = np.array(rotation_vector.reshape(-1, 3))
     matrices = Rotation.from_rotvec(flat).as_matrix()
@@ -60,6 +61,8 @@ def rotation_log(rotation):
     -------
     rotation_vector : ndarray, shape=[..., 3]
     """
+    from scipy.spatial.transform import Rotation  # imported when used: scipy.spatial is slow to import
+
     rotation = np.asarray(rotation, dtype=float)
     flat = np.array(rotation.reshape(-1, 3, 3))
     vectors = Rotation.from_matrix(flat).as_rotvec()
@@ -224,6 +227,8 @@ class AmbientSpace:
         points = np.tile(center, (count, 1))
         for factor, part, scale in zip(self.factors, self.point_slices, self.scales):
             if factor == "SO3":
+                from scipy.spatial.transform import Rotation  # imported when used
+
                 matrices = Rotation.random(count, random_state=rng).as_matrix()
                 points[:, part] = matrices.reshape(count, 9)
             elif factor == "S1":

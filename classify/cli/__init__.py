@@ -13,6 +13,11 @@
 
 Exit status: 0 done (singular or not), 2 bad input (one line on stderr), 1 an
 internal error.
+
+Start-up is instant (``closedchain --help``, ``closedchain catalog``): the
+subcommand modules import only the standard library and the light parts of
+the package at module level; SymPy, SciPy, Matplotlib, Dask and the like are
+imported inside the functions that use them.
 """
 
 from __future__ import annotations
@@ -23,7 +28,7 @@ import traceback
 
 from mechanisms import ConfigurationError, MechanismError
 
-from ..report import printable
+from ..text import printable
 from . import catalog_command, classify_command, compare_command, report_command
 from ._common import InputError, Parser
 from .report_command import report_table
@@ -49,7 +54,7 @@ def parser():
 
 
 def _one_line(text):
-    """`text` on one line, safe for a terminal (:func:`classify.report.printable`: control and format
+    """`text` on one line, safe for a terminal (:func:`classify.text.printable`: control and format
     characters, and lone surrogates from undecodable file names, written as backslash escapes)."""
     return printable(" ".join(str(text).split()))
 

@@ -4,12 +4,10 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 from pathlib import Path
 
-import numpy as np
-
 from mechanisms import MechanismError, catalogue
-from mechanisms.io import parse_json, read, read_text_file, write_text_file
 
 __all__ = [
     "MECHANISM_SUFFIXES", "COUNT_LIMIT", "SEED_LIMIT", "LENGTH_SCALE_RATIO", "PATH_STEP_RANGE",
@@ -66,7 +64,7 @@ def _length_scale(text):
         value = float(text)
     except ValueError:
         raise argparse.ArgumentTypeError(f"expected a positive number, got {text[:40]!r}") from None
-    if not (np.isfinite(value) and value > 0):
+    if not (math.isfinite(value) and value > 0):
         raise argparse.ArgumentTypeError(f"expected a positive finite number, got {text[:40]}")
     return value
 
@@ -88,6 +86,8 @@ def displacements(text):
     (:func:`mechanisms.io.parse_json`). The values are checked against the
     joints later (:func:`mechanisms.validate_displacements`).
     """
+    from mechanisms.io import parse_json, read_text_file  # imported when used: YAML, NumPy
+
     if text is None:
         return {}
     where = "--at"
@@ -112,6 +112,8 @@ def finite(value):
 
     JSON has no NaN or infinity: an undefined quantity is ``null``.
     """
+    import numpy as np  # imported here: the command line starts without NumPy
+
     if isinstance(value, dict):
         return {key: finite(item) for key, item in value.items()}
     if isinstance(value, (list, tuple)):
@@ -120,7 +122,7 @@ def finite(value):
         return finite(value.tolist())
     if isinstance(value, np.generic):
         value = value.item()
-    if isinstance(value, float) and not np.isfinite(value):
+    if isinstance(value, float) and not math.isfinite(value):
         return None
     return value
 
@@ -140,7 +142,7 @@ def check_length_scale(value, mechanism=None):
     """
     if value is None:
         return
-    if not np.isfinite(value) or value <= 0:
+    if not math.isfinite(value) or value <= 0:
         raise InputError(f"--length-scale: expected a positive finite number, got {value}")
     if mechanism is None:
         return
@@ -161,7 +163,7 @@ def check_count(value, option):
 def check_path_step(value):
     """Refuse a ``--path-step`` outside :data:`PATH_STEP_RANGE` (dimensionless joint coordinates)."""
     low, high = PATH_STEP_RANGE
-    if not (np.isfinite(value) and low <= value <= high):
+    if not (math.isfinite(value) and low <= value <= high):
         raise InputError(f"--path-step: expected a step from {low:g} to {high:g} (joint coordinates: radians, "
                          f"and lengths in units of the mechanism's characteristic length), got {value:g}")
 
@@ -198,6 +200,8 @@ def source(arguments):
 
 
 def _source(arguments):
+    from mechanisms.io import read  # imported when used: YAML, NumPy
+
     if is_entry(arguments.file):
         item = catalogue.entry(arguments.file)
         return item.assemble(entry_values(item, arguments)), {}
@@ -244,6 +248,8 @@ def write_output(path, text, option):
     InputError
         ``{option}: {path}: cannot write the file: {reason}``.
     """
+    from mechanisms.io import write_text_file  # imported when used: YAML, NumPy
+
     try:
         write_text_file(path, text)
     except MechanismError as error:

@@ -6,7 +6,6 @@ from __future__ import annotations
 import sys
 
 from mechanisms import MechanismError, catalogue
-from mechanisms.io import save
 
 from ._common import InputError, dumps, entry_options, entry_values
 
@@ -39,6 +38,8 @@ def _entry_dict(item):
 
 def _write(mechanism, path, description):
     """Save the mechanism file; a path that cannot be written is an input error naming --write."""
+    from mechanisms.io import save  # imported when used: YAML
+
     try:
         save(mechanism, path, description=description)
     except MechanismError as error:
@@ -49,10 +50,10 @@ def run(arguments, out):
     if arguments.name is None:
         if arguments.write or arguments.param or arguments.configuration:
             raise InputError("catalog: --write, --param and --configuration need a catalogue NAME")
-        items = catalogue.entries()
         if arguments.format == "json":
-            out.write(dumps([_entry_dict(item) for item in items]) + "\n")
+            out.write(dumps([_entry_dict(item) for item in catalogue.entries()]) + "\n")
             return
+        items = catalogue.listing()  # names, summaries, references, configurations: no entry imported
         width = max(len(item.name) for item in items)
         for item in items:
             out.write(f"{item.name.ljust(width)}  {item.summary}\n")

@@ -7,17 +7,7 @@ from __future__ import annotations
 import sys
 from dataclasses import replace
 
-import numpy as np
-
-from mechanisms import actuate, configuration
-from mechanisms.joints import joint_coordinate_names
-
-from ..comparison import compare, sample_configurations
-from ..gosselin_angeles_examples import RELATIONS
-from ..model import joint_output_model, model_of
-from ..paths import path_configurations, singular_crossings
-from ..report import printable
-from .classify_command import describe_source
+from ..text import printable
 from ._common import (
     InputError, check_count, check_length_scale, check_path_step, common_options, displacements, dumps,
     entry_options, is_entry, joint_list, source,
@@ -58,6 +48,8 @@ def add_parser(commands):
 
 def _paper_relation(arguments, mechanism, point):
     """The (relation, coordinates) named by --relation for a catalogue entry."""
+    from ..gosselin_angeles_examples import RELATIONS  # imported when used: SymPy
+
     known = RELATIONS.get(arguments.file, {}) if is_entry(arguments.file) else {}
     if arguments.relation not in known:
         entries = "; ".join(f"{name}: {', '.join(relations)}" for name, relations in RELATIONS.items())
@@ -72,6 +64,8 @@ def _paper_relation(arguments, mechanism, point):
 def _path_rows(model, start, count, step, start_label="home"):
     """Labels and points along a path of M through `start` (labelled `start_label`), with the singularities it
     crosses in place."""
+    from ..paths import path_configurations, singular_crossings
+
     path, steps = path_configurations(model, start, count, step=step)
     crossings = {}
     for index, point, kind in singular_crossings(model, path):
@@ -87,6 +81,15 @@ def _path_rows(model, start, count, step, start_label="home"):
 
 
 def run(arguments, out):
+    import numpy as np
+
+    from mechanisms import actuate, configuration
+    from mechanisms.joints import joint_coordinate_names
+
+    from ..comparison import compare, sample_configurations
+    from ..model import joint_output_model, model_of
+    from .classify_command import describe_source
+
     check_length_scale(arguments.length_scale)
     check_count(arguments.samples, "--samples")
     check_count(arguments.path, "--path")

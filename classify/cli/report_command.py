@@ -9,33 +9,24 @@ report does not depend on the number of jobs.
 
 from __future__ import annotations
 
+import functools
 import os
 import sys
 import textwrap
 from collections import Counter
-from concurrent.futures import ProcessPoolExecutor, as_completed
 from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import NamedTuple, Optional
 
-import numpy as np
-from tqdm import tqdm
+from mechanisms import catalogue
 
-from mechanisms import catalogue, configuration, home
-from mechanisms.io import read
-from mechanisms.joints import joint_coordinate_names
-
-from ..classification import classify
-from ..comparison import REASONS, comparison_row
-from ..model import joint_output_model, model_of
-from ..report import printable
-from ..survey import survey as survey_mechanism
+from ..text import printable
 from ._common import (
     MECHANISM_SUFFIXES, InputError, check_length_scale, common_options, dumps, is_entry, path_exists, write_output,
 )
 
 __all__ = ["add_parser", "run", "run_tasks", "report_table", "report_summary", "ReportRow", "JOINT_OUTPUTS",
-           "CONFIGURATION_PARAMETERS", "LEGEND"]
+           "CONFIGURATION_PARAMETERS", "LEGEND", "legend"]
 
 #: catalogue entry → the joints whose coordinates are the Gosselin–Angeles outputs, where the paper compares with a
 #: joint output rather than the end-effector (whose dimension differs from the number of inputs): the first joint
@@ -63,11 +54,27 @@ CONFIGURATION_PARAMETERS = {
     "hybrid": ("theta1", "theta2", "theta3", "assembly", "theta4"),
 }
 
-_REASON_LINES = "\n".join(textwrap.fill(f"{reason}: {text}", width=114, initial_indent=" " * 6,
-                                         subsequent_indent=" " * 8) for reason, text in REASONS.items())
 
-#: what the report's table means; the text report starts with it
-LEGEND = f"""\
+@functools.cache
+def legend():
+    """What the report's table means (:data:`LEGEND`); the text report starts with it."""
+    from ..comparison import REASONS  # imported when used: SymPy
+
+    reason_lines = "\n".join(textwrap.fill(f"{reason}: {text}", width=114, initial_indent=" " * 6,
+                                            subsequent_indent=" " * 8) for reason, text in REASONS.items())
+    return _LEGEND.format(reasons=reason_lines)
+
+
+def __getattr__(name):
+    """:data:`LEGEND`, made on first use (it lists :data:`classify.comparison.REASONS`, whose module imports
+    SymPy)."""
+    if name == "LEGEND":
+        return legend()
+    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+
+
+#: :data:`LEGEND` with ``{reasons}`` for the lines of :data:`classify.comparison.REASONS`
+_LEGEND = """\
 closedchain report: the Park–Kim classification of each configuration, Gosselin–Angeles alongside.
 
 Legend
@@ -99,7 +106,7 @@ Legend
                          coordinates, or `[outputs …]` the joint coordinates the paper uses (Park–Kim then
                          classified with the same outputs). A reason in brackets when the two do not
                          correspond:
-{_REASON_LINES}
+{reasons}
 """
 
 
@@ -221,7 +228,7 @@ def _comparison_text(row):
 def _text(rows):
     details = "\n\n".join(f"== {printable(row.source)} [{printable(row.name)}]\n{row.report.to_text()}\n"
                           f"  {_comparison_text(row)}" for row in rows)
-    return LEGEND + "\n" + report_table(rows) + "\n\n" + details
+    return legend() + "\n" + report_table(rows) + "\n\n" + details
 
 
 def _json(rows):
@@ -310,6 +317,10 @@ class _Surveys:
         self.known = {}
 
     def of(self, key, model):
+        import numpy as np
+
+        from ..survey import survey as survey_mechanism
+
         if key not in self.known:
             self.known[key] = survey_mechanism(model, np.random.default_rng(self.seed), starts=model.starts)
         return self.known[key]
@@ -318,6 +329,15 @@ class _Surveys:
 def _catalogue_rows(task, seed, length_scale):
     """The rows of a catalogue task: each configuration classified on its own mechanism (built at it), with the
     design's shared surveys."""
+    import numpy as np
+
+    from mechanisms import home
+    from mechanisms.joints import joint_coordinate_names
+
+    from ..classification import classify
+    from ..comparison import comparison_row
+    from ..model import joint_output_model, model_of
+
     item = catalogue.entry(task.source)
     surveys = _Surveys(seed)
     rows = []
@@ -343,6 +363,16 @@ def _catalogue_rows(task, seed, length_scale):
 
 def _file_rows(task, seed, length_scale):
     """The rows of a mechanism file at its home and named configurations, with one survey from all of them."""
+    import numpy as np
+
+    from mechanisms import configuration
+    from mechanisms.io import read
+
+    from ..classification import classify
+    from ..comparison import comparison_row
+    from ..model import model_of
+    from ..survey import survey as survey_mechanism
+
     path = Path(task.source)
     document = read(path)
     mechanism = document.mechanism
@@ -367,6 +397,8 @@ def _rows(task, seed, length_scale):
 
 def _progress(total):
     """A progress bar on stderr: only on a terminal, never in CI."""
+    from tqdm import tqdm
+
     quiet = not sys.stderr.isatty() or bool(os.environ.get("CI"))
     return tqdm(total=total, unit="configuration", file=sys.stderr, disable=quiet, leave=False,
                 desc="classifying")
@@ -382,6 +414,8 @@ def run_tasks(tasks, seed=0, length_scale=None, jobs=None):
     The rows do not depend on `jobs`: each configuration is classified with
     ``numpy.random.default_rng(seed)`` and each shared survey too.
     """
+    from concurrent.futures import ProcessPoolExecutor, as_completed
+
     jobs = min(_available_cores() if jobs is None else jobs, len(tasks))
     with _progress(sum(len(task.names) for task in tasks)) as progress:
         if jobs <= 1:
@@ -404,6 +438,8 @@ def run_tasks(tasks, seed=0, length_scale=None, jobs=None):
 
 def _tasks(arguments):
     """The tasks of the report, and every (source, configuration name) in report order."""
+    from mechanisms.io import read
+
     names = [text for text in arguments.paths if is_entry(text)] if arguments.paths else catalogue.names()
     paths = [text for text in arguments.paths if not is_entry(text)]
     tasks, order = [], []

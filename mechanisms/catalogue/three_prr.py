@@ -25,7 +25,6 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from scipy.optimize import least_squares
 
 from ..errors import MechanismError
 from ..joints import EndEffector, Joint
@@ -192,6 +191,8 @@ def three_prr_at_inputs(*, platform_radius=100.0, base_radius=200.0, leg_length=
     ----------
     Chablat, Caro, Wenger & Angeles 2002 §2, §2.2 (direct kinematics, matrix A).
     """
+    from scipy.optimize import least_squares  # imported when used: the other builders do not need it
+
     _check_design(platform_radius, base_radius, leg_length)
     sliders = base_vertices(base_radius) + np.array([rho1, rho2, rho3])[:, None] * rail_directions()
 
