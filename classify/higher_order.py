@@ -148,7 +148,6 @@ import functools
 from dataclasses import dataclass
 
 import numpy as np
-import scipy.optimize
 from numpy.polynomial import chebyshev
 
 from manifold import numerical_rank
@@ -498,6 +497,7 @@ def _minima_on_sphere(function, dimension, rng, limit=6):
     local minima of the scan (deterministic). Higher: the `limit` best of 64·dimension random starts
     refined by Nelder–Mead (a missed minimum is possible).
     """
+    import scipy.optimize  # here, not at start-up: only actuator singularities need it
     if dimension == 2:
         angles = np.linspace(0.0, np.pi, 181)[:-1]
         step = angles[1]

@@ -30,7 +30,6 @@ from dataclasses import dataclass
 from typing import Optional
 
 import numpy as np
-import scipy.optimize
 
 from manifold import ImplicitManifold, constraint_curvature, continue_curve, numerical_rank, tangent_basis
 
@@ -252,6 +251,7 @@ def common_roots(forms, tolerance, rng, starts=None, refined=16):
     roots : ndarray, shape=[r, κ]
         Unit roots (q ≤ tolerance), smallest value first, distinct up to sign; r may be 0.
     """
+    import scipy.optimize  # here, not at start-up: only actuator singularities need it
     dimension = forms.shape[-1]
     if forms.shape[0] == 0:
         return 0.0, np.eye(dimension)
