@@ -36,6 +36,7 @@ from mechanisms import CLOSURE_TOLERANCE, ConfigurationError, Mechanism
 from .classification import classify
 from .metrics import largest_singular_value, metric_root, proper_values, unit_rows
 from .model import model_of
+from .progress import progress_bar
 from .report import KINDS
 from .survey import survey_of
 
@@ -140,28 +141,29 @@ class Classifications:
 
     def rows(self):
         """One JSON-ready dict per configuration: kinds, ranks, margins, λ's and the degeneracy verdict."""
-        has_end_effector = self.model.end_effector_dimension > 0
-        shown = [kind for kind in KINDS if kind != "end_effector" or has_end_effector]
-        rows = []
-        for index in range(len(self)):
-            eigenvalues = self.eigenvalues[index]
-            condition = self.condition_number[index]
-            degenerate = int(self.degenerate[index])
-            rows.append({
-                "kinds": list(self.kinds(index)),
-                "singular": bool(self.singular[index].any()),
-                "dof": int(self.dof[index]),
-                "ranks": {kind: int(self.ranks[kind][index]) for kind in shown},
-                "expected_ranks": {kind: int(self.expected_ranks[kind][index]) for kind in shown},
-                "margins": {kind: {"smallest_kept": _finite(self.margins[kind][index, 0]),
-                                   "largest_dropped": _finite(self.margins[kind][index, 1])} for kind in shown},
-                "eigenvalues": None if np.isnan(eigenvalues).all() else
-                [float(value) for value in eigenvalues if not np.isnan(value)],
-                "condition_number": _finite(condition),
-                "degenerate": None if degenerate < 0 else bool(degenerate),
-                "architecture_singular": bool(self.moving_idle_freedoms[index] > 0),
-            })
-        return rows
+        shown = [kind for kind in KINDS if kind != "end_effector" or self.model.end_effector_dimension > 0]
+        ranks = {kind: self.ranks[kind].tolist() for kind in shown}
+        expected = {kind: self.expected_ranks[kind].tolist() for kind in shown}
+        margins = {kind: np.where(np.isnan(self.margins[kind]), None, self.margins[kind]).tolist() for kind in shown}
+        eigenvalues = [[value for value in row if value == value] or None for row in self.eigenvalues.tolist()]
+        conditions = np.where(np.isnan(self.condition_number), None, self.condition_number).tolist()
+        degeneracy = [None if value < 0 else bool(value) for value in self.degenerate.tolist()]
+        architecture = (self.moving_idle_freedoms > 0).tolist()
+        singular = self.singular.tolist()
+        dof = self.dof.tolist()
+        return [{
+            "kinds": [kind for kind, holds in zip(KINDS, singular[index]) if holds],
+            "singular": any(singular[index]),
+            "dof": dof[index],
+            "ranks": {kind: ranks[kind][index] for kind in shown},
+            "expected_ranks": {kind: expected[kind][index] for kind in shown},
+            "margins": {kind: {"smallest_kept": margins[kind][index][0], "largest_dropped": margins[kind][index][1]}
+                        for kind in shown},
+            "eigenvalues": eigenvalues[index],
+            "condition_number": conditions[index],
+            "degenerate": degeneracy[index],
+            "architecture_singular": architecture[index],
+        } for index in range(len(self))]
 
     def to_dict(self):
         """The whole result for JSON: mechanism, batch shape, survey and :meth:`rows`."""
@@ -188,12 +190,6 @@ class Classifications:
         return result
 
 
-def _finite(value):
-    """A float for JSON, None for NaN."""
-    value = float(value)
-    return None if np.isnan(value) else value
-
-
 def classify_many(mechanism, points, survey=None, rtol=DEFAULT_RTOL, length_scale=None, chunk=DEFAULT_CHUNK,
                   progress=False):
     """Classify a stack of configurations at once.
@@ -212,7 +208,8 @@ def classify_many(mechanism, points, survey=None, rtol=DEFAULT_RTOL, length_scal
     chunk : int
         Configurations per chunk of array work (memory grows with it linearly).
     progress : bool
-        Show a progress bar (tqdm, on stderr) over the chunks and the full classifications.
+        Show progress bars (:func:`classify.progress.progress_bar`, on stderr, after a second) over the
+        chunks and the full classifications.
 
     Returns
     -------
@@ -238,7 +235,7 @@ def classify_many(mechanism, points, survey=None, rtol=DEFAULT_RTOL, length_scal
     flat = points.reshape(-1, size)
     survey = survey_of(model, rtol) if survey is None else survey
     starts = range(0, len(flat), int(chunk))
-    bar = _bar(progress, len(flat))
+    bar = progress_bar(len(flat), "classifying", shown=progress)
     parts = []
     for start in starts:
         parts.append(_first_order(model, flat[start:start + int(chunk)], survey, rtol, offset=start))
@@ -253,27 +250,12 @@ def classify_many(mechanism, points, survey=None, rtol=DEFAULT_RTOL, length_scal
         idle_freedoms=columns["idle_freedoms"], moving_idle_freedoms=columns["moving_idle_freedoms"],
         survey=survey, model=model, rtol=rtol)
     full = np.flatnonzero(columns["full"])
-    bar = _bar(progress and len(full) > 0, len(full), "full classifications")
+    bar = progress_bar(len(full), "second-order tests", shown=progress)
     for index in full:
         _fill(result, index, result.report(index))
         bar.update(1)
     bar.close()
     return result
-
-
-class _NoBar:
-    def update(self, count):
-        pass
-
-    def close(self):
-        pass
-
-
-def _bar(shown, total, description="configurations"):
-    if not shown:
-        return _NoBar()
-    from tqdm import tqdm
-    return tqdm(total=total, desc=description, unit="conf", leave=False)
 
 
 def _singular_values(matrices):
@@ -312,7 +294,6 @@ def _first_order(model, points, survey, rtol, offset):
     _off_manifold(model, points, offset)
     count = len(points)
     manifold = model.manifold
-    k = manifold.ambient.dim
     scales = manifold.ambient.tangent_scales
     jacobian = scaled_jacobian(manifold, points)
     constraint_values = _singular_values(jacobian)

@@ -77,18 +77,18 @@ def read_survey(path, model, rtol=DEFAULT_RTOL):
         If the file cannot be read, is not a survey cache file, or was made for another mechanism,
         actuation, end-effector metric or rank cut (the message names the file).
     """
-    if not os.path.exists(path):
+    from mechanisms import MechanismError
+    from mechanisms._text import read_text_file
+
+    if not os.path.lexists(path):
         return None
     try:
-        with open(path, "rb") as stream:
-            raw = stream.read(_LARGEST_FILE + 1)
-    except OSError as error:
-        raise SurveyCacheError(f"survey cache {os.fspath(path)!r}: cannot read it ({error.strerror})") from None
-    if len(raw) > _LARGEST_FILE:
-        raise SurveyCacheError(f"survey cache {os.fspath(path)!r}: larger than {_LARGEST_FILE} bytes")
+        text = read_text_file(path, limit=_LARGEST_FILE)  # refuses FIFOs, devices and folders at once
+    except MechanismError as error:
+        raise SurveyCacheError(f"survey cache: {error}") from None
     try:
-        data = json.loads(raw.decode("utf-8"))
-    except (UnicodeDecodeError, ValueError, RecursionError):
+        data = json.loads(text)
+    except (ValueError, RecursionError):
         raise SurveyCacheError(f"survey cache {os.fspath(path)!r}: not a JSON file") from None
     if not isinstance(data, dict) or data.get("format") != _FORMAT:
         raise SurveyCacheError(f"survey cache {os.fspath(path)!r}: not a closedchain survey cache "
@@ -112,11 +112,13 @@ def write_survey(path, model, survey, rtol=DEFAULT_RTOL):
     """
     data = {"format": _FORMAT, "version": _VERSION, "mechanism": model.name,
             "fingerprint": fingerprint(model, rtol), "rtol": float(rtol), "survey": survey.to_dict()}
+    from mechanisms import MechanismError
+    from mechanisms._text import write_text_file
+
     try:
-        with open(path, "w", encoding="utf-8") as stream:
-            stream.write(json.dumps(data, indent=1) + "\n")
-    except OSError as error:
-        raise SurveyCacheError(f"survey cache {os.fspath(path)!r}: cannot write it ({error.strerror})") from None
+        write_text_file(path, json.dumps(data, indent=1) + "\n")
+    except MechanismError as error:
+        raise SurveyCacheError(f"survey cache: {error}") from None
 
 
 def cached_survey(path, model, rtol=DEFAULT_RTOL):

@@ -8,6 +8,8 @@
   named configuration, and prints a table;
 * ``closedchain compare FILE|NAME`` (:mod:`classify.cli.compare_command`)
   puts Park–Kim and Gosselin–Angeles side by side;
+* ``closedchain map FILE|NAME --grid …`` (:mod:`classify.cli.map_command`)
+  classifies every point of a grid of joint coordinates;
 * ``closedchain catalog [NAME]`` (:mod:`classify.cli.catalog_command`) lists the
   catalogue, describes an entry or writes it as a mechanism file.
 
@@ -29,7 +31,7 @@ import traceback
 from mechanisms import ConfigurationError, MechanismError
 
 from ..text import printable
-from . import catalog_command, classify_command, compare_command, report_command
+from . import catalog_command, classify_command, compare_command, map_command, report_command
 from ._common import InputError, Parser
 from .report_command import report_table
 
@@ -41,6 +43,7 @@ COMMANDS = {
     "report": report_command,
     "compare": compare_command,
     "catalog": catalog_command,
+    "map": map_command,
 }
 
 

@@ -1,18 +1,28 @@
 """``closedchain classify FILE|NAME [--configuration C] [--param K=V] [--at JSON|@file] [--project |
---assemble [--branch N]] [--format json|text]``: classify ``home ⊕ at`` (docs/design.rst, "CLI"), or
-the assembly with the ``--at`` joints held at exactly those values (:func:`mechanisms.assemble`)."""
+--assemble [--branch N]] [--survey FILE] [--format json|text]``: classify ``home ⊕ at`` (docs/design.rst, "CLI"),
+or the assembly with the ``--at`` joints held at exactly those values (:func:`mechanisms.assemble`).
+
+``closedchain classify FILE|NAME --batch FILE.{json,jsonl,csv,npy} [--project] [--survey FILE]
+[--out FILE.{jsonl,json,csv,npz}] [--format json|text]``: classify many configurations at once, each given as
+``--at`` gives one (joint displacements from home; the file formats and their limits in
+:mod:`classify.cli._batch_io`), with one :func:`classify.classify_many` call. With ``--project`` each is projected
+onto M first; otherwise a configuration that does not close the loops is refused, naming its row. Output: JSON
+lines (one object per configuration: ``row``, then :meth:`classify.Classifications.rows`, then the
+``displacements`` of the configuration classified, and ``projection_distance`` with ``--project``) on stdout, or
+a compact table (``--format text``), or ``--out FILE``: ``.jsonl``, ``.json`` (a list of the same objects),
+``.csv`` (flattened) or ``.npz`` (:meth:`classify.Classifications.arrays` with ``row``, ``points``,
+``displacements``, ``coordinate_names``), with a one-line summary on stdout.
+
+``--survey FILE``: the survey of M comes from a cache file when the file exists and was made for this mechanism
+(:mod:`classify.survey_cache`), else it is computed and written there.
+"""
 
 from __future__ import annotations
 
 import sys
-from dataclasses import replace
 
-import numpy as np
-
-from mechanisms import assemble, catalogue, configuration
-
-from ..classification import classify
-from ..report import printable
+from ..progress import show_progress
+from ..text import printable
 from ._common import (
     InputError, check_length_scale, common_options, displacements, dumps, entry_options, entry_values, is_entry,
     source,
@@ -39,6 +49,8 @@ def describe_source(arguments, at=None):
         ``{"file": PATH, "configuration": C}``; C is None without
         ``--configuration``.
     """
+    from mechanisms import catalogue
+
     if is_entry(arguments.file):
         item = catalogue.entry(arguments.file)
         result = {"catalogue": item.name, "parameters": entry_values(item, arguments),
@@ -51,11 +63,15 @@ def describe_source(arguments, at=None):
 
 
 def add_parser(commands):
-    parser = commands.add_parser("classify", help="classify one configuration of a mechanism file or catalogue entry")
+    parser = commands.add_parser("classify", help="classify one configuration, or a batch of them, of a mechanism "
+                                                  "file or catalogue entry")
     parser.add_argument("file", metavar="FILE|NAME", help="mechanism file (YAML or JSON) or catalogue name")
     entry_options(parser)
     parser.add_argument("--at", default=None,
                         help="joint displacements from home as a JSON object, or @file.json")
+    parser.add_argument("--batch", default=None, metavar="FILE",
+                        help="classify every configuration of FILE (.json, .jsonl, .csv or .npy), each given as "
+                             "joint displacements from home as --at takes them; JSON lines out")
     parser.add_argument("--project", action="store_true",
                         help="project a configuration that does not close onto the C-space")
     parser.add_argument("--assemble", action="store_true",
@@ -64,13 +80,24 @@ def add_parser(commands):
     parser.add_argument("--branch", type=int, default=None, metavar="N",
                         help="with --assemble: the N-th assembly at those inputs, by distance from home "
                              "(default: the one reached from home)")
-    parser.add_argument("--format", choices=("json", "text"), default="text")
+    parser.add_argument("--survey", default=None, metavar="FILE",
+                        help="survey cache file: read when it exists and was made for this mechanism, else "
+                             "computed and written")
+    parser.add_argument("--out", default=None, metavar="FILE",
+                        help="with --batch: write the results to FILE (.jsonl, .json, .csv or .npz) and print a "
+                             "summary")
+    parser.add_argument("--format", choices=("json", "text"), default=None,
+                        help="json or text (default text; with --batch, JSON lines)")
     common_options(parser)
     return parser
 
 
 def _assembled(mechanism, named, at, arguments):
     """(point, the assembly's JSON) with the --at joints held and the loops solved (`mechanisms.assemble`)."""
+    import numpy as np
+
+    from mechanisms import assemble
+
     if arguments.project:
         raise InputError("--assemble: give either --assemble or --project, not both")
     if not at:
@@ -80,8 +107,32 @@ def _assembled(mechanism, named, at, arguments):
     return reached.point, reached.to_dict()
 
 
+def _warn_serial(mechanism):
+    if mechanism.loop_count == 0:
+        print(f"closedchain: warning: {printable(mechanism.name)} has no loop (a serial chain)", file=sys.stderr)
+
+
 def run(arguments, out):
     check_length_scale(arguments.length_scale)
+    if arguments.batch is not None:
+        _run_batch(arguments, out)
+        return
+    if arguments.out is not None:
+        raise InputError("--out: applies with --batch")
+    _run_single(arguments, out)
+
+
+def _run_single(arguments, out):
+    from dataclasses import replace
+
+    import numpy as np
+
+    from mechanisms import configuration
+
+    from ..classification import classify
+    from ..model import model_of
+    from ._batch_io import model_survey
+
     mechanism, named = source(arguments)
     at = displacements(arguments.at)
     if arguments.branch is not None and not arguments.assemble:
@@ -92,10 +143,11 @@ def run(arguments, out):
     else:
         projected = configuration(mechanism, {**named, **at}, project_onto=arguments.project, where="--at")
         point, distance = projected.point, projected.distance
-    if mechanism.loop_count == 0:
-        print(f"closedchain: warning: {printable(mechanism.name)} has no loop (a serial chain)", file=sys.stderr)
+    _warn_serial(mechanism)
+    survey = None if arguments.survey is None else model_survey(arguments.survey,
+                                                                 model_of(mechanism, arguments.length_scale))
     rng = np.random.default_rng(arguments.seed)
-    report = classify(mechanism, point, rng=rng, length_scale=arguments.length_scale)
+    report = classify(mechanism, point, survey=survey, rng=rng, length_scale=arguments.length_scale)
     report = replace(report, source=describe_source(arguments, at))
     if arguments.format == "json":
         result = report.to_dict()
@@ -112,3 +164,94 @@ def run(arguments, out):
                       f"branch {assembly['branch']} of {assembly['branches']} found, residual "
                       f"{assembly['residual']:.1e}\n")
         out.write(report.to_text() + "\n")
+
+
+def _check_batch_options(arguments):
+    for option, given in (("--at", arguments.at is not None), ("--assemble", arguments.assemble),
+                          ("--branch", arguments.branch is not None)):
+        if given:
+            raise InputError(f"{option}: does not apply with --batch (the batch file gives the configurations; "
+                             f"`closedchain map` assembles grids of inputs)")
+    if arguments.seed:
+        raise InputError("--seed: does not apply with --batch (the batch classification is deterministic)")
+    if arguments.out is not None and arguments.format is not None:
+        raise InputError("--format: applies to what is printed; with --out the file's suffix gives the format")
+
+
+def _batch_points(arguments, mechanism, named):
+    """The batch's configurations on M, and their projection distances (None without --project)."""
+    from mechanisms import CLOSURE_TOLERANCE, validate_displacements
+
+    from . import _batch_io as batch_io
+
+    validate_displacements(mechanism, named, "--configuration")
+    base = batch_io.displacement_vector(mechanism, named)
+    matrix = batch_io.read_batch(arguments.batch, mechanism, base)
+    points = batch_io.points_of(mechanism, matrix)
+    where = f"--batch: {printable(arguments.batch)}"
+    if arguments.project:
+        points, reached, distance = batch_io.project_many(mechanism, points, CLOSURE_TOLERANCE)
+        if not reached.all():
+            row = int(reached.argmin())
+            raise InputError(f"{where}: row {row + 1}: projection onto the configuration space failed (no "
+                             f"configuration closing the loops near it)")
+        return points, distance
+    row, residual = batch_io.off_manifold_row(mechanism, points, CLOSURE_TOLERANCE)
+    if row is not None:
+        problem = (f"|Φ| = {residual:.3g} > {CLOSURE_TOLERANCE:g}" if residual > CLOSURE_TOLERANCE
+                   else "a loop closes with a half-turn")
+        raise InputError(f"{where}: row {row + 1}: the configuration does not close the loops ({problem}); give "
+                         f"closing values or use --project")
+    return points, None
+
+
+def _run_batch(arguments, out):
+    import numpy as np
+
+    from ..batch import classify_many
+    from ..model import model_of
+    from . import _batch_io as batch_io
+
+    _check_batch_options(arguments)
+    file_format = batch_io.output_format(arguments.out) if arguments.out is not None else None
+    mechanism, named = source(arguments)
+    points, distance = _batch_points(arguments, mechanism, named)
+    _warn_serial(mechanism)
+    model = model_of(mechanism, arguments.length_scale)
+    survey = batch_io.model_survey(arguments.survey, model)
+    result = classify_many(model, points, survey=survey, progress=show_progress())
+    displacements_matrix = batch_io.displacements_of(mechanism, result.points)
+    summary = "classified " + batch_io.summary_line(batch_io.kind_counts(result), len(result))
+    if file_format == "npz":
+        arrays = dict(result.arrays())
+        arrays.update({"row": np.arange(1, len(result) + 1), "points": result.points,
+                       "displacements": displacements_matrix,
+                       "coordinate_names": np.array(mechanism.coordinate_names)})
+        if distance is not None:
+            arrays["projection_distance"] = distance
+        batch_io.write_npz(arguments.out, arrays)
+        out.write(f"{summary}; written to {printable(arguments.out)}\n")
+        return
+    rows = _rows(result, batch_io.joint_displacements(mechanism, displacements_matrix), distance)
+    if file_format is not None:
+        batch_io.write_rows(arguments.out, rows)
+        out.write(f"{summary}; written to {printable(arguments.out)}\n")
+    elif arguments.format == "text":
+        table = batch_io.result_table(("row",), [((str(row["row"]),), row) for row in rows])
+        out.write(f"{table}\n\n{summary}\n")
+    else:
+        import json
+
+        out.write("".join(json.dumps(row, ensure_ascii=False, allow_nan=False) + "\n" for row in rows))
+
+
+def _rows(result, displacements, distance):
+    """The JSON-ready row of each configuration: ``row`` (from 1), :meth:`classify.Classifications.rows`, the
+    ``displacements`` classified, and ``projection_distance`` with --project."""
+    rows = []
+    for index, (row, given) in enumerate(zip(result.rows(), displacements)):
+        entry = {"row": index + 1, **row, "displacements": given}
+        if distance is not None:
+            entry["projection_distance"] = float(distance[index])
+        rows.append(entry)
+    return rows

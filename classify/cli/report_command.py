@@ -11,7 +11,6 @@ from __future__ import annotations
 
 import functools
 import os
-import sys
 import textwrap
 from collections import Counter
 from dataclasses import dataclass, replace
@@ -395,15 +394,6 @@ def _rows(task, seed, length_scale):
     return (_file_rows if task.is_file else _catalogue_rows)(task, seed, length_scale)
 
 
-def _progress(total):
-    """A progress bar on stderr: only on a terminal, never in CI."""
-    from tqdm import tqdm
-
-    quiet = not sys.stderr.isatty() or bool(os.environ.get("CI"))
-    return tqdm(total=total, unit="configuration", file=sys.stderr, disable=quiet, leave=False,
-                desc="classifying")
-
-
 def _available_cores():
     return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
 
@@ -417,7 +407,9 @@ def run_tasks(tasks, seed=0, length_scale=None, jobs=None):
     from concurrent.futures import ProcessPoolExecutor, as_completed
 
     jobs = min(_available_cores() if jobs is None else jobs, len(tasks))
-    with _progress(sum(len(task.names) for task in tasks)) as progress:
+    from ..progress import progress_bar
+
+    with progress_bar(sum(len(task.names) for task in tasks), "classifying") as progress:
         if jobs <= 1:
             results = []
             for task in tasks:
