@@ -87,11 +87,19 @@ def model_of(mechanism, length_scale=None):
     length_scale : float, optional
         L of the SE(2)/SE(3) end-effector metric (default the characteristic length).
     """
-    models = mechanism.__dict__.setdefault("_models", {})
+    models = mechanism.__dict__.setdefault("_models", _Models())
     key = None if length_scale is None else float(length_scale)
     if key not in models:
         models[key] = _new_model(mechanism, length_scale)
     return models[key]
+
+
+class _Models(dict):
+    """The models kept on a mechanism (length scale → Model). Not pickled nor deep-copied: a mechanism
+    sent to another process (a Dask worker, a process pool) arrives without them and makes its own."""
+
+    def __reduce__(self):
+        return type(self), ()
 
 
 def _new_model(mechanism, length_scale):

@@ -160,3 +160,18 @@ def test_survey_dict_round_trip_and_errors():
         Survey.from_dict({**survey.to_dict(), "actuator_rank": -1})
     with pytest.raises(ValueError, match="'samples'"):
         Survey.from_dict({**survey.to_dict(), "samples": True})
+
+
+def test_a_classified_mechanism_still_pickles_and_classifies_the_same():
+    import copy
+    import pickle
+
+    from mechanisms.io import mechanism_to_dict
+
+    mechanism = catalogue.entry("five-bar").mechanism()
+    point = model_of(mechanism).starts[0]
+    before = classify(mechanism, point).to_dict()
+    for other in (pickle.loads(pickle.dumps(mechanism)), copy.deepcopy(mechanism)):
+        assert mechanism_to_dict(other) == mechanism_to_dict(mechanism)
+        assert model_of(other) is not model_of(mechanism)
+        assert classify(other, point).to_dict() == before
