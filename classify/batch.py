@@ -34,11 +34,11 @@ from manifold import DEFAULT_ATOL, DEFAULT_RTOL, scaled_jacobian
 from mechanisms import CLOSURE_TOLERANCE, ConfigurationError, Mechanism
 
 from .classification import classify
-from .metrics import largest_singular_value, metric_root, proper_values, unit_rows
+from .metrics import metric_root, proper_values
 from .model import model_of
 from .progress import progress_bar
 from .report import KINDS
-from .survey import survey_of
+from .survey import survey_of, unit_actuator_rows
 
 __all__ = ["Classifications", "classify_many", "DEFAULT_CHUNK"]
 
@@ -360,8 +360,7 @@ def _regular_columns(model, points, basis, constraint_rank, survey, rtol, column
     scales = model.manifold.ambient.tangent_scales
     dof = k - constraint_rank
     count = len(points)
-    unit_actuators = unit_rows(model.actuators, scales)
-    actuator_scale = largest_singular_value(unit_actuators * scales)
+    unit_actuators, actuator_scale = unit_actuator_rows(model)
     actuator_tolerance = max(rtol * actuator_scale, DEFAULT_ATOL)
     actuator_block = unit_actuators @ basis  # [g, a, m]
     actuator_ranks, actuator_margins = _decisions(_singular_values(actuator_block), actuator_tolerance)

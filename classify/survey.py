@@ -19,11 +19,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from manifold import DEFAULT_RTOL, numerical_rank, sample_manifold, tangent_basis
+from manifold import DEFAULT_RTOL, jacobian_rank, numerical_rank, sample_manifold, tangent_basis
 
 from .metrics import largest_singular_value, metric_root, unit_rows
 
-__all__ = ["Survey", "survey", "survey_of", "decision_rows", "decision_blocks", "freedom_rows", "stacked", "SURVEY_SEED"]
+__all__ = ["Survey", "survey", "survey_of", "decision_rows", "decision_blocks", "freedom_rows", "stacked", "unit_actuator_rows", "SURVEY_SEED"]
 
 #: seed of the survey a model keeps (:func:`survey_of`): the same survey in every call and process
 SURVEY_SEED = 0
@@ -191,12 +191,28 @@ def decision_rows(model, point):
         σ₁ of ``H^½ Df·diag(s)``.
     """
     scales = model.manifold.ambient.tangent_scales
-    actuators = unit_rows(model.actuators, scales)
-    actuator_scale = largest_singular_value(actuators * scales)
+    actuators, actuator_scale = unit_actuator_rows(model)
     if not model.end_effector_dimension:
         return actuators, actuator_scale, None, None
     jacobian = metric_root(model.end_effector_metric) @ model.end_effector_jacobian(point)
     return actuators, actuator_scale, jacobian, largest_singular_value(jacobian * scales)
+
+
+def unit_actuator_rows(model):
+    """``unit_rows(E^½ Dπ)`` of a model and σ₁ of those rows·diag(s): constants of the model, computed
+    once and kept in ``model.cache``.
+
+    Returns
+    -------
+    rows : ndarray, shape=[a, k]
+    scale : float
+    """
+    cached = model.cache.get("unit_actuator_rows")
+    if cached is None:
+        scales = model.manifold.ambient.tangent_scales
+        rows = unit_rows(model.actuators, scales)
+        cached = model.cache["unit_actuator_rows"] = (rows, largest_singular_value(rows * scales))
+    return cached
 
 
 def decision_blocks(model, point, basis):
@@ -241,19 +257,27 @@ def survey(model, rng, starts=None, random_count=24, walk_count=24, rtol=DEFAULT
     manifold = model.manifold
     starts = model.starts if starts is None else np.atleast_2d(starts)
     points = sample_manifold(manifold, rng, starts, random_count=random_count, walk_count=walk_count)
-    bases = [tangent_basis(manifold, point, rtol=rtol) for point in points]
-    constraint_rank = max(decision.rank for _, decision in bases)
+    ranks = [jacobian_rank(manifold, point, rtol=rtol).rank for point in points]
+    constraint_rank = max(ranks)
+    dof = manifold.ambient.dim - constraint_rank
     actuator_rank = 0
     end_effector_rank = joint_rank = None if not model.end_effector_dimension else 0
-    for point, (basis, decision) in zip(points, bases):
-        if decision.rank < constraint_rank:
+    # upper bounds of each rank on M: once every one is reached, no further sample can raise them
+    bounds = (min(len(model.actuators), dof), min(model.end_effector_dimension, dof),
+              min(len(model.actuators) + model.end_effector_dimension, dof))
+    for point, rank in zip(points, ranks):
+        if rank < constraint_rank:
             continue  # a C-space singularity: ker DΦ is larger than the tangent spaces of M
-        blocks = decision_blocks(model, point, basis)
+        blocks = decision_blocks(model, point, tangent_basis(manifold, point, rtol=rtol)[0])
         actuator, actuator_scale, end_effector, end_effector_scale = blocks
         actuator_rank = max(actuator_rank, numerical_rank(actuator, rtol=rtol, scale=actuator_scale).rank)
         if end_effector is None:
+            if actuator_rank == bounds[0]:
+                break
             continue
         end_effector_rank = max(end_effector_rank,
                                 numerical_rank(end_effector, rtol=rtol, scale=end_effector_scale).rank)
         joint_rank = max(joint_rank, numerical_rank(stacked(*blocks), rtol=rtol, scale=1.0).rank)
+        if (actuator_rank, end_effector_rank, joint_rank) == bounds:
+            break
     return Survey(len(points), constraint_rank, actuator_rank, end_effector_rank, joint_rank)

@@ -15,9 +15,10 @@ _SOURCES = {
     **dict.fromkeys(("FACTORS", "AmbientSpace", "rotation_exp", "rotation_log"), ".ambient"),
     **dict.fromkeys(("CurveCertificate", "continue_curve"), ".continuation"),
     **dict.fromkeys(("ContinuationError", "ManifoldError", "ProjectionError"), ".errors"),
-    **dict.fromkeys(("ImplicitManifold", "constraint_curvature", "normal_basis", "project", "residual",
-                     "scaled_jacobian", "tangent_basis"), ".implicit"),
-    **dict.fromkeys(("DEFAULT_ATOL", "DEFAULT_RTOL", "RankDecision", "numerical_rank"), ".rank"),
+    **dict.fromkeys(("ImplicitManifold", "JacobianPattern", "constraint_curvature", "hessian_form",
+                     "jacobian_rank", "normal_basis", "project", "residual", "scaled_jacobian",
+                     "sparse_tangent_basis", "tangent_basis"), ".implicit"),
+    **dict.fromkeys(("DEFAULT_ATOL", "DEFAULT_RTOL", "RankDecision", "numerical_rank", "rank_of_values"), ".rank"),
     **dict.fromkeys(("LocalRank", "largest_rank", "local_rank", "sample_manifold"), ".sampling"),
 }
 

@@ -28,7 +28,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["DEFAULT_RTOL", "DEFAULT_ATOL", "RankDecision", "numerical_rank"]
+__all__ = ["DEFAULT_RTOL", "DEFAULT_ATOL", "RankDecision", "numerical_rank", "rank_of_values"]
 
 #: default relative cut, ``σ > rtol · scale``
 DEFAULT_RTOL = 1e-6
@@ -102,7 +102,34 @@ def numerical_rank(matrix, rtol=DEFAULT_RTOL, atol=DEFAULT_ATOL, scale=None):
         raise ValueError(f"Expected a matrix of shape (rows, columns), got shape {matrix.shape}")
     if matrix.size == 0:
         return RankDecision(0, np.zeros(0), float(atol))
-    values = np.linalg.svd(matrix, compute_uv=False)
+    return rank_of_values(np.linalg.svd(matrix, compute_uv=False), rtol=rtol, atol=atol, scale=scale)
+
+
+def rank_of_values(singular_values, rtol=DEFAULT_RTOL, atol=DEFAULT_ATOL, scale=None):
+    """The decision of :func:`numerical_rank` from singular values already computed.
+
+    For a matrix known by pieces, e.g. a block-diagonal DΦ (after permuting
+    rows and columns) whose singular values are the union of its blocks':
+    the cut is the same as for the whole matrix (relative to its σ₁ unless
+    `scale` is given).
+
+    Parameters
+    ----------
+    singular_values : array_like, shape=[count]
+        In any order; sorted here into descending order.
+    rtol, atol, scale : float
+        As in :func:`numerical_rank`.
+
+    Returns
+    -------
+    decision : RankDecision
+
+    Examples
+    --------
+    >>> rank_of_values([1e-12, 1.0, 0.5]).rank
+    2
+    """
+    values = np.sort(np.asarray(singular_values, dtype=float).ravel())[::-1]
     reference = (values[0] if len(values) else 0.0) if scale is None else float(scale)
     tolerance = max(rtol * reference, atol)
     rank = int(np.count_nonzero(values > tolerance))

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .errors import ProjectionError
-from .implicit import project, scaled_jacobian
+from .implicit import _tangent_scales, jacobian_rank, project
 from .rank import DEFAULT_ATOL, DEFAULT_RTOL, numerical_rank
 
 __all__ = ["LocalRank", "local_rank", "sample_manifold", "largest_rank"]
@@ -57,8 +57,8 @@ def local_rank(manifold, point, rng, count=6, radius=1e-3, rtol=DEFAULT_RTOL, at
     LocalRank
     """
     ambient = manifold.ambient
-    scales = ambient.tangent_scales
-    rank = numerical_rank(scaled_jacobian(manifold, point), rtol=rtol, atol=atol).rank
+    scales = _tangent_scales(ambient)
+    rank = jacobian_rank(manifold, point, rtol=rtol, atol=atol).rank
     neighbours = []
     attempts = 0
     while len(neighbours) < count and attempts < 4 * count:
@@ -73,7 +73,7 @@ def local_rank(manifold, point, rng, count=6, radius=1e-3, rtol=DEFAULT_RTOL, at
         if np.linalg.norm(ambient.inverse_retract(point, neighbour) / scales) > 20 * radius:
             continue
         neighbours.append(neighbour)
-        rank = max(rank, numerical_rank(scaled_jacobian(manifold, neighbour), rtol=rtol, atol=atol).rank)
+        rank = max(rank, jacobian_rank(manifold, neighbour, rtol=rtol, atol=atol).rank)
     return LocalRank(rank, ambient.dim - rank, np.array(neighbours).reshape(-1, ambient.point_size))
 
 
@@ -102,7 +102,7 @@ def sample_manifold(manifold, rng, starts, random_count=24, walk_count=24, step=
     samples : ndarray, shape=[count, point_size]
     """
     ambient = manifold.ambient
-    scales = ambient.tangent_scales
+    scales = _tangent_scales(ambient)
     starts = np.atleast_2d(np.asarray(starts, dtype=float))
     samples = [start for start in starts]
     for guess in ambient.random_point(rng, center=starts[0], size=random_count):

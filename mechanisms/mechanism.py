@@ -21,10 +21,8 @@ __all__ = ["Mechanism", "DENSE_MEMORY_LIMIT", "SMALLEST_LENGTH", "dense_memory_e
 
 #: largest memory (bytes) the dense algorithms may need, as estimated by :func:`dense_memory_estimate`
 DENSE_MEMORY_LIMIT = 2 ** 30
-#: k×k float arrays the dense algorithms hold besides the Hessians (metrics, bases, SVD work)
-_DENSE_WORK_ARRAYS = 16
-#: rows of the end-effector Hessian counted by the estimate (the largest output, a pose in SE(3))
-_END_EFFECTOR_ROWS = 6
+#: k×(k − c) arrays a classification holds at once: a tangent basis, its dimensionless copy, a kernel, a product
+_BASIS_ARRAYS = 4
 #: smallest distance between two points of a link that the rank tolerances resolve
 SMALLEST_LENGTH = 1e-9
 #: distances below this fraction of the coordinates are rounding noise (coincident points)
@@ -36,7 +34,7 @@ _SHORTEST_MISSPELT = 5
 
 
 def dense_memory_estimate(coordinates, rows):
-    """Bytes the dense algorithms need for k joint coordinates and c constraint rows.
+    """Bytes the dense arrays of a classification need at least, for k joint coordinates and c constraint rows.
 
     Parameters
     ----------
@@ -51,17 +49,25 @@ def dense_memory_estimate(coordinates, rows):
 
     Notes
     -----
-    The constraint Hessian D²Φ has c·k² entries, the end-effector Hessian
-    up to 6·k², and the metrics, tangent bases and singular value
-    decompositions a few more k×k arrays; each entry is a float64 (8 bytes):
-    ``8·k²·(c + 6 + 16)``.
+    The constraint Jacobian DΦ is a dense c×k array, and every tangent
+    basis of M a dense k×m array with m ≥ k − c; a classification holds a
+    few of them at once (the basis, its dimensionless copy, kernels and
+    products: 4 counted). Each entry is a float64 (8 bytes):
+    ``8·(c·k + 4·k·max(k − c, 0))``. Everything else grows with the loops,
+    not with k²: DΦ is factorised block by block (its blocks are groups of
+    loops sharing joints) and D²Φ is kept loop by loop
+    (:mod:`mechanisms.kinematics`), never as a c×k×k array. The estimate is
+    a lower bound: a mechanism above :data:`DENSE_MEMORY_LIMIT` cannot be
+    classified in that memory whatever else it needs.
 
     Examples
     --------
     >>> dense_memory_estimate(400, 300)  # a ladder of 100 planar four-bar loops
-    412160000
+    2240000
+    >>> dense_memory_estimate(25_000, 0)  # 25,000 pendulums: one 25,000 × 25,000 tangent basis is 5 GB
+    20000000000
     """
-    return 8 * coordinates ** 2 * (rows + _END_EFFECTOR_ROWS + _DENSE_WORK_ARRAYS)
+    return 8 * (rows * coordinates + _BASIS_ARRAYS * coordinates * max(coordinates - rows, 0))
 
 
 def _binary_size(size):
@@ -172,10 +178,7 @@ class Mechanism:
     @property
     def links(self):
         """Link names, the ground first, then in order of first appearance."""
-        ordered = [self.ground]
-        for joint in self.joints:
-            ordered += [link for link in joint.links if link not in ordered]
-        return tuple(ordered)
+        return tuple(dict.fromkeys([self.ground, *(link for joint in self.joints for link in joint.links)]))
 
     @property
     def loop_count(self):
@@ -267,24 +270,42 @@ class Mechanism:
 
 
 def _diameter(points, block=256):
-    """Largest distance between two of the points, shape=[n, d], in O(n) memory."""
-    largest = 0.0
-    for start in range(0, len(points), block):
-        rows = points[start:start + block]
+    """Largest distance between two of the points, shape=[n, d], in O(n) memory.
+
+    Exact. A lower bound L comes from farthest-point steps; a point p can
+    only end a longer pair when ``|p − c| + R > L`` (c the centroid, R the
+    largest distance to it), so only those points are compared with all the
+    others: for the points of one link (a few, or many in a line) this is
+    close to linear in n.
+    """
+    points = np.asarray(points, dtype=float)
+    if len(points) <= block:
+        return float(np.max(np.linalg.norm(points[:, None] - points[None], axis=-1), initial=0.0))
+    current, largest = 0, 0.0
+    for _ in range(3):
+        distances = np.linalg.norm(points - points[current], axis=-1)
+        current = int(np.argmax(distances))
+        largest = max(largest, float(distances[current]))
+    centre = points.mean(axis=0)
+    reach = np.linalg.norm(points - centre, axis=-1)
+    candidates = points[reach + reach.max() > largest]
+    for start in range(0, len(candidates), block):
+        rows = candidates[start:start + block]
         largest = max(largest, float(np.max(np.linalg.norm(rows[:, None] - points[None], axis=-1))))
     return largest
 
 
 def _check_size(joints, graph, space):
-    """Refuse a mechanism whose dense algorithms would need more than :data:`DENSE_MEMORY_LIMIT`."""
+    """Refuse a mechanism whose dense arrays would need more than :data:`DENSE_MEMORY_LIMIT`."""
     coordinates = sum(3 if factor == "SO3" else 1 for joint in joints for factor in joint_factors(joint))
     rows = LOOP_ROWS[space] * max(len(joints) - graph.number_of_nodes() + 1, 0)
     estimate = dense_memory_estimate(coordinates, rows)
     if estimate > DENSE_MEMORY_LIMIT:
         raise MechanismError(
             f"field 'joints': the mechanism is too large for the dense algorithms: {coordinates} joint "
-            f"coordinates and {rows} constraint rows need about {_binary_size(estimate)} "
-            f"(8·k²·(c + 22) bytes), more than the limit of {_binary_size(DENSE_MEMORY_LIMIT)}")
+            f"coordinates and {rows} constraint rows need at least {_binary_size(estimate)} "
+            f"(8·(c·k + 4·k·(k − c)) bytes: DΦ and the tangent bases of M), more than the limit of "
+            f"{_binary_size(DENSE_MEMORY_LIMIT)}")
 
 
 def _one_edit_apart(first, second):
@@ -311,7 +332,9 @@ class _LookAlikes:
 
     def __init__(self, names):
         self._index = {}
+        self._without_digits = {}
         for name in names:
+            self._without_digits[name] = re.sub(r"[0-9]", "", name.lower())
             for key in _deletions(name.lower()):
                 self._index.setdefault(key, []).append(name)
 
@@ -323,11 +346,12 @@ class _LookAlikes:
         digits (``link1``, ``link2`` are different names).
         """
         lowered = name.lower()
-        candidates = {candidate for key in _deletions(lowered) for candidate in self._index.get(key, ())}
+        digitless = self._without_digits.get(name, re.sub(r"[0-9]", "", lowered))
+        candidates = {candidate for key in _deletions(lowered) for candidate in self._index.get(key, ())
+                      if self._without_digits[candidate] != digitless}
         for candidate in sorted(candidates & among - {name}):
             other = candidate.lower()
             if (max(len(lowered), len(other)) >= _SHORTEST_MISSPELT
-                    and re.sub(r"[0-9]", "", lowered) != re.sub(r"[0-9]", "", other)
                     and (lowered == other or _one_edit_apart(lowered, other))):
                 return candidate
         return None

@@ -610,8 +610,8 @@ def test_every_catalogue_entry_is_far_within_the_dense_memory_limit():
 def test_mechanism_too_large_for_the_dense_algorithms_is_refused_with_its_size():
     lines = ["name: pendulums", "space: planar", "joints:"]
     lines += [f"  - {{name: P{index}, type: R, links: [ground, pendulum{index}], point: [{index}.0, 0.0]}}"
-              for index in range(3000)]
+              for index in range(6000)]
     message = refusal("\n".join(lines))
-    assert message == ("mechanism text: field 'joints': the mechanism is too large for the dense algorithms: 3000 "
-                       "joint coordinates and 0 constraint rows need about 1.48 GiB (8·k²·(c + 22) bytes), more "
-                       "than the limit of 1 GiB")
+    assert message == ("mechanism text: field 'joints': the mechanism is too large for the dense algorithms: 6000 "
+                       "joint coordinates and 0 constraint rows need at least 1.07 GiB (8·(c·k + 4·k·(k − c)) "
+                       "bytes: DΦ and the tangent bases of M), more than the limit of 1 GiB")

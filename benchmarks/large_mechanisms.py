@@ -1,0 +1,195 @@
+"""Time and memory of large mechanisms against the number of joints k, with the fitted exponents.
+
+Run from the repository root::
+
+    .venv/bin/python benchmarks/large_mechanisms.py                 # k = 10 … 1000, about a minute
+    .venv/bin/python benchmarks/large_mechanisms.py --sizes 10 100  # some sizes only
+
+The mechanism is a planar *ladder*: four-bar parallelogram loops stacked on
+the ground, four joints each, rung i joined to rung i − 1 by two parallel
+links of direction (tᵢ, 1), tᵢ = 0.1 + 0.3 sin i (so that the rungs do not
+all move alike). The left joint of every loop is actuated, and when k is no
+multiple of 4 the k mod 4 remaining joints (actuated) hang in a chain from
+the top rung; the end-effector is a point of the top rung or of the chain's
+last link. Every loop touches only its own joints: DΦ has one 3×4 block per
+loop, the structure :mod:`manifold.implicit` factorises block by block.
+
+Each size runs in a fresh subprocess (a clean peak RSS from
+``resource.getrusage``): imports and a warm-up classification of a ladder of
+68 joints (past :data:`manifold.implicit.BLOCK_THRESHOLD`, so that the block
+path's imports are paid too), then ``--repeats`` times the build
+(``Mechanism`` and its home) and a cold ``classify.classify(mechanism,
+home(mechanism))``, the survey of M included, each on a new mechanism; the
+fastest is reported (the machine is shared: the others measure its load).
+Then a new mechanism of the same size is classified under tracemalloc (the
+peak of Python and NumPy allocations). Reported: seconds, peak RSS, RSS
+above the warm-up's (what the mechanism added), the traced peak, and the
+exponent b of ``value ≈ a·kᵇ`` fitted by least squares on the logarithms,
+over all sizes and over k ≥ 100. It prints Markdown and writes JSON
+(``--out``, default ``benchmarks/results/large_mechanisms.json``).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+if str(ROOT) not in sys.path:
+    sys.path.insert(0, str(ROOT))
+
+#: the sizes k measured by default
+SIZES = (10, 20, 50, 100, 200, 400, 1000)
+#: seconds one size may take before it is reported as timed out
+TIME_LIMIT = 600
+
+
+def ladder(joint_count):
+    """The ladder with exactly `joint_count` joints (see the module's docstring), at least 4."""
+    import numpy as np
+
+    from mechanisms import EndEffector, Joint, Mechanism
+
+    loops, tail = divmod(int(joint_count), 4)
+    if loops < 1:
+        raise ValueError(f"Expected at least 4 joints, got {joint_count}")
+    joints = []
+    for index in range(1, loops + 1):
+        below, above = ("ground" if index == 1 else f"rung{index - 1}"), f"rung{index}"
+        tilt = 0.1 + 0.3 * np.sin(index)
+        joints += [Joint(f"A{index}", "R", (below, f"left{index}"), point=(0.0, index - 1.0), actuated=True),
+                   Joint(f"B{index}", "R", (f"left{index}", above), point=(tilt, float(index))),
+                   Joint(f"C{index}", "R", (below, f"right{index}"), point=(1.0, index - 1.0)),
+                   Joint(f"D{index}", "R", (f"right{index}", above), point=(1.0 + tilt, float(index)))]
+    link = f"rung{loops}"
+    for index in range(1, tail + 1):
+        joints.append(Joint(f"T{index}", "R", (link, f"tail{index}"), point=(0.5, loops + index - 1.0),
+                            actuated=True))
+        link = f"tail{index}"
+    return Mechanism(f"ladder of {joint_count} joints", "planar", joints,
+                     end_effector=EndEffector(link, point=(0.5, float(loops + tail))))
+
+
+def _peak_rss():
+    """Peak resident memory of this process so far, bytes (``ru_maxrss`` is in KiB on Linux, bytes on macOS)."""
+    import resource
+
+    peak = resource.getrusage(resource.RUSAGE_SELF).ru_maxrss
+    return peak if sys.platform == "darwin" else peak * 1024
+
+
+def measure(joint_count, repeats=3):
+    """Build and classify ladders of `joint_count` joints in this process; a dict for the JSON."""
+    import tracemalloc
+
+    from classify import classify
+    from mechanisms import home
+
+    warm = ladder(68)
+    classify(warm, home(warm))
+    baseline = _peak_rss()
+    timings = []
+    for _ in range(repeats):
+        started = time.perf_counter()
+        mechanism = ladder(joint_count)
+        point = home(mechanism)
+        built = time.perf_counter()
+        report = classify(mechanism, point)
+        timings.append((built - started, time.perf_counter() - built))
+    peak = _peak_rss()
+    fresh = ladder(joint_count)
+    tracemalloc.start()
+    classify(fresh, home(fresh))
+    traced = tracemalloc.get_traced_memory()[1]
+    tracemalloc.stop()
+    build_seconds, classify_seconds = min(timings, key=sum)
+    return {
+        "k": joint_count, "loops": mechanism.loop_count, "dof": report.dof, "kinds": list(report.kinds),
+        "build_seconds": build_seconds, "classify_seconds": classify_seconds,
+        "seconds": build_seconds + classify_seconds, "all_seconds": [sum(pair) for pair in timings],
+        "peak_rss_mb": peak / 2 ** 20, "baseline_rss_mb": baseline / 2 ** 20,
+        "added_rss_mb": (peak - baseline) / 2 ** 20, "traced_peak_mb": traced / 2 ** 20,
+    }
+
+
+def run(joint_count, repeats):
+    """:func:`measure` in a fresh subprocess; a dict with ``error`` where it failed or timed out."""
+    arguments = [sys.executable, str(Path(__file__).resolve()), "--one", str(joint_count), "--repeats", str(repeats)]
+    try:
+        completed = subprocess.run(arguments, cwd=ROOT, capture_output=True, text=True, timeout=TIME_LIMIT)
+    except subprocess.TimeoutExpired:
+        return {"k": joint_count, "error": f"still running after {TIME_LIMIT} s"}
+    if completed.returncode != 0:
+        return {"k": joint_count, "error": completed.stderr.strip().splitlines()[-1:] or ["failed"]}
+    return json.loads(completed.stdout.strip().splitlines()[-1])
+
+
+def exponent(rows, key, smallest=0):
+    """b of ``value ≈ a·kᵇ`` by least squares on the logarithms, over the rows with k ≥ `smallest` (None
+    with fewer than two such rows)."""
+    import numpy as np
+
+    pairs = [(row["k"], row[key]) for row in rows if "error" not in row and row["k"] >= smallest and row[key] > 0]
+    if len(pairs) < 2:
+        return None
+    sizes, values = np.log(np.array(pairs, dtype=float)).T
+    return float(np.polyfit(sizes, values, 1)[0])
+
+
+def table(rows):
+    """The Markdown table of the measurements."""
+    lines = ["| k | loops | build s | classify s | peak RSS MB | added RSS MB | traced peak MB | kinds |",
+             "|---:|---:|---:|---:|---:|---:|---:|---|"]
+    for row in rows:
+        if "error" in row:
+            lines.append(f"| {row['k']} | | | {row['error']} | | | | |")
+            continue
+        lines.append(f"| {row['k']} | {row['loops']} | {row['build_seconds']:.3f} | {row['classify_seconds']:.2f} | "
+                     f"{row['peak_rss_mb']:.0f} | {row['added_rss_mb']:.1f} | {row['traced_peak_mb']:.1f} | "
+                     f"{', '.join(row['kinds']) or 'regular'} |")
+    return "\n".join(lines)
+
+
+def main(argv=None):
+    parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    parser.add_argument("--sizes", type=int, nargs="+", default=list(SIZES), metavar="K",
+                        help="numbers of joints (default 10 20 50 100 200 400 1000)")
+    parser.add_argument("--repeats", type=int, default=3, help="timed runs per size, the fastest kept (default 3)")
+    parser.add_argument("--out", type=Path, default=ROOT / "benchmarks" / "results" / "large_mechanisms.json",
+                        help="JSON output")
+    parser.add_argument("--one", type=int, metavar="K", help=argparse.SUPPRESS)  # the subprocess of one size
+    options = parser.parse_args(argv)
+    if options.one is not None:
+        print(json.dumps(measure(options.one, options.repeats)))
+        return
+    sys.path.insert(0, str(ROOT / "benchmarks"))
+    from speed import machine
+
+    rows = []
+    for joint_count in options.sizes:
+        rows.append(run(joint_count, options.repeats))
+        print(f"k = {joint_count}: " + (rows[-1]["error"] if "error" in rows[-1] else
+                                        f"{rows[-1]['seconds']:.2f} s, {rows[-1]['traced_peak_mb']:.1f} MB traced"),
+              file=sys.stderr, flush=True)
+    fits = {key: {"all": exponent(rows, key), "k >= 100": exponent(rows, key, 100)}
+            for key in ("seconds", "classify_seconds", "added_rss_mb", "traced_peak_mb")}
+    result = {"machine": machine(), "load_average": list(os.getloadavg()) if hasattr(os, "getloadavg") else None,
+              "rows": rows, "exponents": fits}
+    options.out.parent.mkdir(parents=True, exist_ok=True)
+    options.out.write_text(json.dumps(result, indent=2) + "\n", encoding="utf-8")
+    print(table(rows))
+    print()
+    print("Fitted exponent b of value ≈ a·kᵇ (least squares on logarithms):")
+    for key, fit in fits.items():
+        shown = {label: ("-" if value is None else f"{value:.2f}") for label, value in fit.items()}
+        print(f"- {key}: {shown['all']} over all sizes, {shown['k >= 100']} over k ≥ 100")
+    print(f"\nwritten to {options.out}")
+
+
+if __name__ == "__main__":
+    main()
