@@ -3,7 +3,7 @@ PYTHON ?= python3
 VENV := .venv
 BIN := $(VENV)/bin
 
-.PHONY: demo test clean
+.PHONY: demo test bench clean
 
 $(BIN)/closedchain: pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -16,6 +16,11 @@ demo: $(BIN)/closedchain
 
 test: $(BIN)/closedchain
 	$(BIN)/python -m pytest -n auto
+
+bench: $(BIN)/closedchain
+	$(BIN)/python benchmarks/speed.py
+	$(BIN)/python benchmarks/startup.py
+	$(BIN)/python benchmarks/large_mechanisms.py
 
 clean:
 	rm -rf $(VENV) report.txt

@@ -34,7 +34,7 @@ from manifold import DEFAULT_ATOL, DEFAULT_RTOL, scaled_jacobian
 from mechanisms import CLOSURE_TOLERANCE, ConfigurationError, Mechanism
 
 from .classification import classify
-from .metrics import metric_root, proper_values
+from .metrics import metric_root, proper_values, singular_values
 from .model import model_of
 from .progress import progress_bar
 from .report import KINDS
@@ -258,13 +258,6 @@ def classify_many(mechanism, points, survey=None, rtol=DEFAULT_RTOL, length_scal
     return result
 
 
-def _singular_values(matrices):
-    """Singular values of a stack of matrices, shape=[b, min(rows, columns)] (empty matrices have none)."""
-    if matrices.shape[-1] == 0 or matrices.shape[-2] == 0:
-        return np.zeros(matrices.shape[:-2] + (0,))
-    return np.linalg.svd(matrices, compute_uv=False)
-
-
 def _decisions(values, tolerance):
     """Ranks (count of σ > tolerance) and margins [b, 2] of stacks of singular values, shape=[b, s]."""
     tolerance = np.broadcast_to(tolerance, values.shape[:1])
@@ -296,7 +289,7 @@ def _first_order(model, points, survey, rtol, offset):
     manifold = model.manifold
     scales = manifold.ambient.tangent_scales
     jacobian = scaled_jacobian(manifold, points)
-    constraint_values = _singular_values(jacobian)
+    constraint_values = singular_values(jacobian)
     constraint_tolerance = np.maximum(rtol * (constraint_values[:, 0] if constraint_values.shape[1] else 0.0),
                                       DEFAULT_ATOL)
     constraint_ranks, constraint_margins = _decisions(constraint_values, constraint_tolerance)
@@ -363,7 +356,7 @@ def _regular_columns(model, points, basis, constraint_rank, survey, rtol, column
     unit_actuators, actuator_scale = unit_actuator_rows(model)
     actuator_tolerance = max(rtol * actuator_scale, DEFAULT_ATOL)
     actuator_block = unit_actuators @ basis  # [g, a, m]
-    actuator_ranks, actuator_margins = _decisions(_singular_values(actuator_block), actuator_tolerance)
+    actuator_ranks, actuator_margins = _decisions(singular_values(actuator_block), actuator_tolerance)
     n = model.end_effector_dimension
     if n:
         end_effector_jacobian = np.broadcast_to(model.end_effector_jacobian(points), (count, n, k))
@@ -371,14 +364,14 @@ def _regular_columns(model, points, basis, constraint_rank, survey, rtol, column
         end_effector_scale = _largest(end_effector_rows * scales)
         end_effector_tolerance = np.maximum(rtol * end_effector_scale, DEFAULT_ATOL)
         end_effector_block = end_effector_rows @ basis
-        end_effector_ranks, end_effector_margins = _decisions(_singular_values(end_effector_block),
+        end_effector_ranks, end_effector_margins = _decisions(singular_values(end_effector_block),
                                                               end_effector_tolerance)
     raised = constraint_rank > survey.constraint_rank
     if n and (raised or survey.joint_rank < dof):  # else the stacked rank cannot raise the survey's
         stacked = np.concatenate([
             actuator_block / max(actuator_scale, 1e-300),
             end_effector_block / np.maximum(end_effector_scale, 1e-300)[:, None, None]], axis=1)
-        joint_ranks = _decisions(_singular_values(stacked), max(rtol, DEFAULT_ATOL))[0]  # reference scale 1
+        joint_ranks = _decisions(singular_values(stacked), max(rtol, DEFAULT_ATOL))[0]  # reference scale 1
     elif n:
         joint_ranks = np.zeros(count, dtype=int)
     # the survey raised to each configuration's own ranks (Survey.including), as classify does

@@ -28,7 +28,7 @@ from mechanisms import actuator_jacobian, end_effector_dimension, kinematics_of
 __all__ = [
     "actuator_metric", "weighted_actuator_jacobian", "end_effector_metric",
     "metric_root", "pullback_metric", "Manipulability", "manipulability",
-    "unit_rows", "largest_singular_value", "proper_values",
+    "unit_rows", "largest_singular_value", "proper_values", "singular_values",
 ]
 
 
@@ -165,12 +165,51 @@ def proper_values(actuator_block, end_effector_block, metric, count):
     ndarray, shape=[..., count]
         λ₁ ≥ λ₂ ≥ … ≥ λ_count.
     """
-    triangular = np.linalg.qr(np.asarray(actuator_block, dtype=float), mode="r")
+    actuator_block = np.asarray(actuator_block, dtype=float)
+    # a square A needs no QR: H^½ J A⁻¹ = X Qᵀ has the singular values of X
+    triangular = (actuator_block if actuator_block.shape[-2] == actuator_block.shape[-1]
+                  else np.linalg.qr(actuator_block, mode="r"))
     weighted = metric_root(metric) @ np.asarray(end_effector_block, dtype=float)
     transformed = np.linalg.solve(np.swapaxes(triangular, -1, -2), np.swapaxes(weighted, -1, -2))  # Xᵀ
-    if transformed.shape[-1] == 0 or transformed.shape[-2] == 0:
-        return np.zeros(transformed.shape[:-2] + (0,))
-    return np.linalg.svd(transformed, compute_uv=False)[..., :count] ** 2
+    values = singular_values(transformed.reshape((-1,) + transformed.shape[-2:]))
+    return values.reshape(transformed.shape[:-2] + values.shape[-1:])[..., :count] ** 2
+
+
+def singular_values(matrices):
+    """Singular values of a stack of matrices, descending, shape=[b, min(rows, columns)].
+
+    Empty matrices have none; a single row or column has its norm; 2×2
+    matrices use the closed form of :func:`_singular_values_2x2`; others
+    LAPACK's (``numpy.linalg.svd``).
+    """
+    rows, columns = matrices.shape[-2:]
+    if rows == 0 or columns == 0:
+        return np.zeros(matrices.shape[:-2] + (0,))
+    if rows == 1 or columns == 1:
+        return np.linalg.norm(matrices.reshape(matrices.shape[:-2] + (-1,)), axis=-1)[..., None]
+    if rows == columns == 2:
+        return _singular_values_2x2(matrices)
+    return np.linalg.svd(matrices, compute_uv=False)
+
+
+def _singular_values_2x2(matrices):
+    """Singular values of 2×2 matrices ``[[a, b], [c, d]]`` in closed form, shape=[b, 2].
+
+    ``σ₁ = (√((a+d)² + (c−b)²) + √((a−d)² + (c+b)²)) / 2`` (a sum of
+    non-negative terms, no cancellation) and ``σ₂ = |ad − bc| / σ₁``, whose
+    absolute error, of the order of the rounding unit times σ₁, is that of
+    a backward-stable SVD: the same decisions and margins as LAPACK's,
+    without a call per matrix.
+    """
+    size = np.max(np.abs(matrices), axis=(-2, -1))
+    size = np.where(size > 0, size, 1.0)  # each matrix scaled to entries ≤ 1: ad − bc cannot underflow
+    scaled = matrices / size[..., None, None]
+    a, b = scaled[..., 0, 0], scaled[..., 0, 1]
+    c, d = scaled[..., 1, 0], scaled[..., 1, 1]
+    largest = 0.5 * (np.hypot(a + d, c - b) + np.hypot(a - d, c + b))
+    determinant = np.abs(a * d - b * c)
+    smallest = np.divide(determinant, largest, out=np.zeros_like(largest), where=largest > 0)
+    return size[..., None] * np.stack([largest, np.minimum(smallest, largest)], axis=-1)
 
 
 def manipulability(actuator_block, end_effector_block, metric, count, rank=None, rtol=1e-6):

@@ -175,3 +175,19 @@ def test_a_classified_mechanism_still_pickles_and_classifies_the_same():
         assert mechanism_to_dict(other) == mechanism_to_dict(mechanism)
         assert model_of(other) is not model_of(mechanism)
         assert classify(other, point).to_dict() == before
+
+
+def test_closed_form_singular_values_equal_lapack_to_rounding():
+    from classify.metrics import singular_values
+
+    rng = np.random.default_rng(8)
+    for shape in [(200, 2, 2), (50, 1, 4), (50, 3, 1), (40, 3, 5), (7, 0, 3)]:
+        matrices = rng.standard_normal(shape)
+        if shape[1:] == (2, 2):
+            matrices[:40, 1] = matrices[:40, 0] * rng.standard_normal((40, 1))  # rank one, and
+            matrices[40:60] *= 1e-200  # tiny: no underflow of the determinant's scale
+        expected = (np.linalg.svd(matrices, compute_uv=False) if min(shape[1:]) else np.zeros(shape[:1] + (0,)))
+        values = singular_values(matrices)
+        assert values.shape == expected.shape
+        scale = np.max(expected, axis=-1, keepdims=True) if expected.size else 1.0
+        assert np.all(np.abs(values - expected) <= 4e-15 * scale)
