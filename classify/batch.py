@@ -419,11 +419,17 @@ def _regular_columns(model, points, basis, constraint_rank, survey, rtol, column
 
 def _largest(matrices):
     """σ₁ of each matrix of a stack, shape=[b] (0 for empty matrices): the square root of the largest
-    eigenvalue of the smaller Gram matrix (relative accuracy of the order of the rounding unit)."""
+    eigenvalue of the smaller Gram matrix (relative accuracy of the order of the rounding unit), in closed
+    form for one or two rows or columns."""
     if matrices.shape[-1] == 0 or matrices.shape[-2] == 0:
         return np.zeros(len(matrices))
     transposed = np.swapaxes(matrices, -1, -2)
     gram = matrices @ transposed if matrices.shape[-2] <= matrices.shape[-1] else transposed @ matrices
+    if gram.shape[-1] == 1:
+        return np.sqrt(gram[:, 0, 0])
+    if gram.shape[-1] == 2:
+        first, second, off = gram[:, 0, 0], gram[:, 1, 1], gram[:, 0, 1]
+        return np.sqrt(0.5 * (first + second) + np.hypot(0.5 * (first - second), off))
     return np.sqrt(np.clip(np.linalg.eigvalsh(gram)[:, -1], 0.0, None))
 
 
