@@ -146,11 +146,15 @@ from __future__ import annotations
 
 import functools
 from dataclasses import dataclass
+from typing import Optional
 
 import numpy as np
 from numpy.polynomial import chebyshev
 
-from manifold import numerical_rank
+from manifold import hessian_form, numerical_rank
+from manifold import implicit
+
+from .sphere_minima import distinct_directions, sphere_minima
 
 __all__ = ["HIGHER_ORDER_RTOL", "NOISE_FACTOR", "HigherOrderResult", "higher_order_test", "taylor_coefficients"]
 
@@ -282,6 +286,43 @@ def taylor_coefficients(function, radius, degree, nodes=None):
 
 
 @dataclass(frozen=True, eq=False)
+class _SecondDerivative:
+    """D²Φ at p̄ in dimensionless chart coordinates u = x / s, as a bilinear form.
+
+    Held as a dense [c, k, k] array when it has at most :data:`manifold.implicit.CHUNK_ENTRIES`
+    entries; else contracted by :func:`manifold.hessian_form` at each use (no c×k×k array).
+    """
+
+    manifold: object
+    point: np.ndarray
+    scales: np.ndarray          # s, [k]
+    dense: Optional[np.ndarray]  # D²Φ in u, [c, k, k], or None
+
+    @classmethod
+    def at(cls, manifold, point, scales, rows):
+        """D²Φ at `point` of a manifold with `rows` constraint rows."""
+        dense = None
+        if rows * scales.size ** 2 <= implicit.CHUNK_ENTRIES:
+            dense = hessian_form(manifold, point, np.diag(scales)).reshape(-1, scales.size, scales.size)
+        return cls(manifold, point, scales, dense)
+
+    def form(self, left, right):
+        """``D²Φ_u(left[:, i], right[:, j])``, shape=[c, i, j], for u-vectors `left` [k, i] and `right` [k, j]."""
+        if self.dense is not None:
+            return np.einsum("cpq,pi,qj->cij", self.dense, left, right, optimize=True)
+        return hessian_form(self.manifold, self.point, self.scales[:, None] * left, self.scales[:, None] * right)
+
+    def diagonal(self, vectors, chunk=16):
+        """``D²Φ_u(v_b, v_b)``, shape=[c, b], for b ≥ 1 u-vectors `vectors` [b, k] (`chunk` at a time
+        without the dense array)."""
+        if self.dense is not None:
+            return np.einsum("cpq,bp,bq->cb", self.dense, vectors, vectors, optimize=True)
+        parts = [self.form(vectors[start:start + chunk].T, vectors[start:start + chunk].T)
+                 for start in range(0, len(vectors), chunk)]
+        return np.concatenate([np.diagonal(part, axis1=-2, axis2=-1) for part in parts], axis=-1)
+
+
+@dataclass(frozen=True, eq=False)
 class _Setting:
     """Everything the test needs at p̄, in dimensionless chart coordinates u = x / s."""
 
@@ -290,7 +331,7 @@ class _Setting:
     scales: np.ndarray          # s, [k]
     jacobian: np.ndarray        # J = DΦ·diag(s), [c, k]
     pseudo_inverse: np.ndarray  # J⁺ truncated to rank k − m, [k, c]
-    hessian: np.ndarray         # D²Φ in u, [c, k, k]
+    hessian: _SecondDerivative  # D²Φ in u
     selection: np.ndarray       # S_u, [a, k]
     lift: np.ndarray            # T_u (S_u T_u)⁺, [k, a]
     kernel: np.ndarray          # K in u, orthonormal, [k, κ]
@@ -330,8 +371,7 @@ def _setting(manifold, point, basis, selection, rtol, scale, rank_rtol, max_orde
         raise ValueError(f"Expected DΦ of rank k − m = {normal_rank} at a regular point (`basis` has "
                          f"{basis.shape[1]} columns), got rank {found}")
     pseudo_inverse = right[:normal_rank].T @ (left[:, :normal_rank] / values[:normal_rank]).T
-    hessian = np.asarray(manifold.constraint_hessian(point), dtype=float).reshape(-1, size, size)
-    hessian = hessian * scales[:, None] * scales
+    hessian = _SecondDerivative.at(manifold, point, scales, jacobian.shape[0])
     tangent = basis / scales[:, None]
     selection_u = selection * scales
     block = selection_u @ tangent
@@ -341,13 +381,24 @@ def _setting(manifold, point, basis, selection, rtol, scale, rank_rtol, max_orde
     lift = tangent @ block_right[:rank].T @ (block_left[:, :rank] / block_values[:rank]).T
     kernel = tangent @ block_right[rank:].T
     complement = block_left[:, rank:]
-    second = np.einsum("cpq,pi,qj->cij", hessian, kernel, kernel, optimize=True)
+    second = hessian.form(kernel, kernel)
     forms = -np.einsum("ae,ak,kc,cij->eij", complement, selection_u, pseudo_inverse, second, optimize=True)
-    curvature = np.einsum("kc,cpq,pi,qj->kij", pseudo_inverse, hessian, tangent, tangent, optimize=True)
     return _Setting(manifold, point, scales, jacobian, pseudo_inverse, hessian, selection_u, lift, kernel,
-                    complement, forms, actuator_scale, max(1.0, float(np.linalg.norm(curvature))),
+                    complement, forms, actuator_scale, max(1.0, _curvature_norm(hessian, pseudo_inverse, tangent)),
                     float(np.linalg.norm(pseudo_inverse, 2)) if pseudo_inverse.size else 0.0, rtol,
                     max_order + 10)
+
+
+def _curvature_norm(hessian, pseudo_inverse, tangent):
+    """‖J⁺ D²Φ_u(T_u, T_u)‖ (Frobenius): the size of the curvature x''(T, T) of M at p̄, a few columns of
+    T_u at a time (no k×m×m array beyond :data:`manifold.implicit.CHUNK_ENTRIES` floats)."""
+    size, count = tangent.shape
+    chunk = max(1, implicit.CHUNK_ENTRIES // max(1, count * (size + pseudo_inverse.shape[1])))
+    squares = 0.0
+    for start in range(0, count, chunk):
+        curvature = np.einsum("kc,cij->kij", pseudo_inverse, hessian.form(tangent[:, start:start + chunk], tangent))
+        squares += float(np.sum(curvature ** 2))
+    return float(np.sqrt(squares))
 
 
 def _natural_scale(setting, coefficients):
@@ -437,7 +488,7 @@ def _formal_curve(setting, direction, max_order):
         curve = np.array(coefficients)
         scale = float(_natural_scale(setting, curve))
         if order == 2:
-            remainder = 0.5 * np.einsum("cpq,p,q->c", setting.hessian, v, v)
+            remainder = 0.5 * setting.hessian.form(v[:, None], v[:, None])[:, 0, 0]
             noise = 0.0
         else:
             values, errors = _constraint_coefficients(setting, curve, order)
@@ -448,7 +499,7 @@ def _formal_curve(setting, direction, max_order):
             raw = -setting.complement.T @ setting.selection @ setting.pseudo_inverse @ remainder
             free = others @ setting.solve(polar, -raw)
             coefficients[order - 2] = coefficients[order - 2] + setting.kernel @ free
-            remainder = remainder + np.einsum("cpq,p,q->c", setting.hessian, v, setting.kernel @ free)
+            remainder = remainder + setting.hessian.form(v[:, None], (setting.kernel @ free)[:, None])[:, 0, 0]
         normal = -setting.pseudo_inverse @ remainder
         actuators = setting.selection @ normal
         obstruction = float(np.linalg.norm(setting.complement.T @ actuators)) / (
@@ -478,7 +529,7 @@ def _formal_curve(setting, direction, max_order):
 def _cubic_obstructions(setting, directions):
     """ρ₃ and its noise for directions of K (K coordinates, shape=[B, κ]) when Q ≡ 0 on K (no free part)."""
     v = directions @ setting.kernel.T                                                   # [B, k]
-    normal = -0.5 * np.einsum("kc,cpq,bp,bq->bk", setting.pseudo_inverse, setting.hessian, v, v, optimize=True)
+    normal = -0.5 * (setting.pseudo_inverse @ setting.hessian.diagonal(v)).T
     second = normal - np.einsum("ka,ap,bp->bk", setting.lift, setting.selection, normal, optimize=True)
     curves = np.stack([v, second], axis=-2)                                             # [B, 2, k]
     scale = _natural_scale(setting, curves)
@@ -495,34 +546,16 @@ def _minima_on_sphere(function, dimension, rng, limit=6):
 
     dimension 2: a scan of the half circle (1°) refined by bounded minimisation at the `limit` best
     local minima of the scan (deterministic). Higher: the `limit` best of 64·dimension random starts
-    refined by Nelder–Mead (a missed minimum is possible).
+    refined by Nelder–Mead (a missed minimum is possible). :func:`classify.sphere_minima.sphere_minima`.
     """
-    import scipy.optimize  # here, not at start-up: only actuator singularities need it
     if dimension == 2:
-        angles = np.linspace(0.0, np.pi, 181)[:-1]
-        step = angles[1]
-        values = function(np.stack([np.cos(angles), np.sin(angles)], axis=-1))
-        lower = np.flatnonzero((values <= np.roll(values, 1)) & (values <= np.roll(values, -1)))
-        found = []
-        for angle in angles[lower[np.argsort(values[lower])][:limit]]:
-            result = scipy.optimize.minimize_scalar(
-                lambda a: function(np.array([[np.cos(a), np.sin(a)]]))[0],
-                bounds=(angle - step, angle + step), method="bounded", options={"xatol": 1e-10})
-            found.append((float(result.fun), np.array([np.cos(result.x), np.sin(result.x)])))
+        found = sphere_minima(function, 2, limit=limit, scan=180, xatol=1e-10)
     else:
         starts = rng.standard_normal((64 * dimension, dimension))
         starts /= np.linalg.norm(starts, axis=-1, keepdims=True)
-        values = function(starts)
-        found = []
-        for start in starts[np.argsort(values)[:limit]]:
-            result = scipy.optimize.minimize(lambda y: function((y / np.linalg.norm(y))[None])[0], start,
-                                             method="Nelder-Mead", options={"xatol": 1e-10, "fatol": 1e-14})
-            found.append((float(result.fun), result.x / np.linalg.norm(result.x)))
-    distinct = []
-    for value, vector in sorted(found, key=lambda item: item[0]):
-        if all(abs(vector @ other) < 1 - 1e-6 for _, other in distinct):
-            distinct.append((value, vector))
-    return distinct
+        found = sphere_minima(function, dimension, starts=starts, limit=limit, xatol=1e-10)
+    kept = distinct_directions(np.array([vector for _, vector, _ in found]), np.array([value for value, _, _ in found]))
+    return [found[index][:2] for index in kept]
 
 
 def higher_order_test(manifold, point, basis, selection, roots, max_order=5, rtol=HIGHER_ORDER_RTOL, scale=None,
@@ -532,7 +565,7 @@ def higher_order_test(manifold, point, basis, selection, roots, max_order=5, rto
     Parameters
     ----------
     manifold : ImplicitManifold
-        The C-space, with constraint Jacobian and Hessian (no third derivative is needed).
+        The C-space, with constraint Jacobian and Hessian or Hessian form (no third derivative is needed).
     point : ndarray, shape=[point_size]
         p̄, a regular point of M at an actuator singularity.
     basis : ndarray, shape=[k, m]
@@ -606,11 +639,8 @@ def higher_order_test(manifold, point, basis, selection, roots, max_order=5, rto
                 lambda y: half * np.linalg.norm(np.einsum("eij,bi,bj->be", setting.forms, y, y), axis=-1),
                 dimension, rng)
             candidates += [vector for value, vector in minima if value <= rtol]
-    distinct = []
-    for vector in candidates:
-        if all(abs(vector @ other) < 1 - 1e-6 for other in distinct):
-            distinct.append(vector)
-    results = [_formal_curve(setting, vector, int(max_order)) for vector in distinct]
+    candidates = np.array(candidates)
+    results = [_formal_curve(setting, candidates[index], int(max_order)) for index in distinct_directions(candidates)]
     for verdict in ("unobstructed", "undecidable"):
         for result in results:
             if result.verdict == verdict:

@@ -31,9 +31,11 @@ from typing import Optional
 
 import numpy as np
 
-from manifold import ImplicitManifold, constraint_curvature, continue_curve, numerical_rank, tangent_basis
+from manifold import ImplicitManifold, constraint_curvature, continue_curve, hessian_form, numerical_rank, tangent_basis
+from manifold import implicit
 
 from .higher_order import higher_order_test
+from .sphere_minima import distinct_directions, sphere_minima
 
 __all__ = [
     "SECOND_ORDER_RTOL", "SelfMotion", "SecondOrderResult", "second_order_test", "fibre", "idle_slice",
@@ -163,7 +165,8 @@ def idle_slice(manifold, point, basis, neighbours, freedom_rows, idle, rtol=1e-6
     Returns
     -------
     slice : ImplicitManifold or None
-        None when no neighbour is a regular point of M.
+        None when no neighbour is a regular point of M. Its D²Φ is a Hessian form
+        (:func:`manifold.hessian_form` of M with zero rows for the cut), never a c×k×k array.
     directions : ndarray, shape=[k, ι]
         I, orthonormal (dimensionless coordinates).
     """
@@ -197,11 +200,12 @@ def idle_slice(manifold, point, basis, neighbours, freedom_rows, idle, rtol=1e-6
         return np.concatenate([manifold.constraint_jacobian(q),
                                np.broadcast_to(rows, np.shape(q)[:-1] + rows.shape)], axis=-2)
 
-    def hessian(q):
-        zeros = np.zeros(np.shape(q)[:-1] + (idle,) + (basis.shape[0],) * 2)
-        return np.concatenate([manifold.constraint_hessian(q), zeros], axis=-3)
+    def second_derivative(q, left, right):
+        form = hessian_form(manifold, q, left, right)
+        return np.concatenate([form, np.zeros(form.shape[:-3] + (idle,) + form.shape[-2:])], axis=-3)
 
-    return ImplicitManifold(ambient, constraint, jacobian, hessian, manifold.is_solution), directions
+    return ImplicitManifold(ambient, constraint, jacobian, is_solution=manifold.is_solution,
+                            constraint_hessian_form=second_derivative), directions
 
 
 def _form_values(forms, vectors):
@@ -210,24 +214,15 @@ def _form_values(forms, vectors):
     return np.sqrt(np.sum(np.einsum("ni,eij,nj->ne", vectors, forms, vectors) ** 2, axis=-1))
 
 
-def _distinct(vectors, values):
-    """Unit vectors sorted by value, without repeats up to sign."""
-    kept, kept_values = [], []
-    for index in np.argsort(values, kind="stable"):
-        vector = vectors[index] / np.linalg.norm(vectors[index])
-        if all(abs(vector @ other) < 1 - 1e-6 for other in kept):
-            kept.append(vector)
-            kept_values.append(values[index])
-    return np.array(kept), np.array(kept_values)
-
-
 def common_roots(forms, tolerance, rng, starts=None, refined=16):
     """The common roots of quadratic forms on the unit sphere, and the smallest value reached.
 
-    Minimises ``q(v) = sqrt(Σ_e (vᵀ Q_e v)²)`` over unit v. dim K = 1: exact.
-    dim K = 2: a scan of the half circle, every local minimum refined by
-    bounded minimisation. Higher dimensions: `starts` random unit vectors and
-    the coordinate axes, the best `refined` of them refined by least squares.
+    Minimises ``q(v) = sqrt(Σ_e (vᵀ Q_e v)²)`` over unit v
+    (:func:`classify.sphere_minima.sphere_minima`). dim K = 1: exact.
+    dim K = 2: a scan of the half circle (0.25°, both ends), every local
+    minimum refined by bounded minimisation. Higher dimensions: `starts`
+    random vectors and the coordinate axes, the best `refined` of them refined
+    by least squares.
     Directions along which every form vanishes identically (the common
     radical ``{v : Q_e v = 0 ∀e}``) are roots too and always included. Every
     minimum below `tolerance` is a root; all of them are returned, so that a
@@ -251,42 +246,55 @@ def common_roots(forms, tolerance, rng, starts=None, refined=16):
     roots : ndarray, shape=[r, κ]
         Unit roots (q ≤ tolerance), smallest value first, distinct up to sign; r may be 0.
     """
-    import scipy.optimize  # here, not at start-up: only actuator singularities need it
     dimension = forms.shape[-1]
     if forms.shape[0] == 0:
         return 0.0, np.eye(dimension)
     candidates = [np.eye(dimension)]
     _, values, right = np.linalg.svd(forms.reshape(-1, dimension))
     candidates.append(right[int(np.count_nonzero(values > tolerance)):])
+
+    def function(vectors):
+        return _form_values(forms, vectors)
+
     if dimension == 2:
-        angles = np.linspace(0.0, np.pi, 721)
-        circle = np.stack([np.cos(angles), np.sin(angles)], axis=-1)
-        values = _form_values(forms, circle)
-        step = angles[1] - angles[0]
-        around = np.concatenate([values[-2:-1], values, values[1:2]])
-        minima = np.flatnonzero((values <= around[:-2]) & (values <= around[2:]))
-        for index in minima:
-            result = scipy.optimize.minimize_scalar(
-                lambda a: _form_values(forms, np.array([[np.cos(a), np.sin(a)]]))[0],
-                bounds=(angles[index] - step, angles[index] + step), method="bounded", options={"xatol": 1e-12})
-            candidates.append(np.array([[np.cos(result.x), np.sin(result.x)], circle[index]]))
+        found = sphere_minima(function, 2, scan=720, closed=True, xatol=1e-12)
+        candidates += [np.array([vector, start]) for _, vector, start in found]
     elif dimension >= 3:
-        count = 32 * dimension if starts is None else starts
-        guesses = np.concatenate([np.eye(dimension), rng.standard_normal((count, dimension))])
-        values = _form_values(forms, guesses)
+        import scipy.optimize  # here, not at start-up: only actuator singularities need it
 
         def residuals(vector):
             vector = vector / np.linalg.norm(vector)
             return np.einsum("i,eij,j->e", vector, forms, vector)
 
-        for index in np.argsort(values, kind="stable")[:refined]:
-            guess = guesses[index] / np.linalg.norm(guesses[index])
-            result = scipy.optimize.least_squares(residuals, guess, xtol=1e-15, ftol=1e-15, gtol=1e-15)
-            candidates.append(np.array([result.x, guess]))
+        def refine(start):
+            result = scipy.optimize.least_squares(residuals, start / np.linalg.norm(start), xtol=1e-15, ftol=1e-15,
+                                                  gtol=1e-15)
+            return float(np.linalg.norm(result.fun)), result.x
+
+        count = 32 * dimension if starts is None else starts
+        guesses = np.concatenate([np.eye(dimension), rng.standard_normal((count, dimension))])
+        found = sphere_minima(function, dimension, starts=guesses, limit=refined, refine=refine)
+        candidates += [np.array([vector, start / np.linalg.norm(start)]) for _, vector, start in found]
     vectors = np.concatenate([block for block in candidates if len(block)])
     values = _form_values(forms, vectors)
-    roots, root_values = _distinct(vectors, values)
-    return float(np.min(values)), roots[root_values <= tolerance]
+    unit = np.array([vector / np.linalg.norm(vector) for vector in vectors])
+    kept = distinct_directions(unit, values)
+    return float(np.min(values)), unit[kept][values[kept] <= tolerance]
+
+
+def _largest_acceleration(manifold, point, basis):
+    """``max |x''(bᵢ, bⱼ) / s|`` over pairs of basis vectors (:func:`manifold.constraint_curvature` in
+    dimensionless units), a few columns at a time: no k×m×m array beyond :data:`manifold.implicit.CHUNK_ENTRIES`
+    floats."""
+    scales = manifold.ambient.tangent_scales
+    size, count = basis.shape
+    chunk = max(1, implicit.CHUNK_ENTRIES // max(1, size * count))
+    largest = 0.0
+    for start in range(0, count, chunk):
+        acceleration = np.abs(constraint_curvature(manifold, point, basis[:, start:start + chunk], right=basis))
+        acceleration /= scales[:, None, None]
+        largest = max(largest, float(np.max(acceleration, initial=0.0)))
+    return largest
 
 
 def second_order_test(manifold, point, basis, selection, rng, rtol=1e-6, scale=None,
@@ -296,7 +304,7 @@ def second_order_test(manifold, point, basis, selection, rng, rtol=1e-6, scale=N
     Parameters
     ----------
     manifold : ImplicitManifold
-        The C-space (or a slice of it), with its constraint Hessian.
+        The C-space (or a slice of it), with its constraint Hessian or Hessian form (:func:`manifold.hessian_form`).
     point : ndarray, shape=[point_size]
         p̄, a regular point of M at an actuator singularity.
     basis : ndarray, shape=[k, m]
@@ -341,8 +349,7 @@ def second_order_test(manifold, point, basis, selection, rng, rtol=1e-6, scale=N
     kernel = basis @ kernel_coordinates                      # [k, κ]
     curvature = constraint_curvature(manifold, point, kernel)          # [k, κ, κ]
     forms = np.einsum("ae,ak,kij->eij", complement, selection, curvature)
-    unit_curvature = constraint_curvature(manifold, point, basis) / scales[:, None, None]
-    curvature_scale = max(1.0, float(np.max(np.abs(unit_curvature), initial=0.0)))
+    curvature_scale = max(1.0, _largest_acceleration(manifold, point, basis))
     tolerance = second_order_rtol * curvature_scale * scale
     smallest, roots = common_roots(forms, tolerance, rng)
     if not len(roots):

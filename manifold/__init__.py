@@ -13,11 +13,12 @@ import importlib
 #: exported name → the submodule that defines it (imported when the name is first used)
 _SOURCES = {
     **dict.fromkeys(("FACTORS", "AmbientSpace", "rotation_exp", "rotation_log"), ".ambient"),
+    **dict.fromkeys(("JacobianPattern",), ".blocks"),
     **dict.fromkeys(("CurveCertificate", "continue_curve"), ".continuation"),
     **dict.fromkeys(("ContinuationError", "ManifoldError", "ProjectionError"), ".errors"),
-    **dict.fromkeys(("ImplicitManifold", "JacobianPattern", "constraint_curvature", "hessian_form",
-                     "jacobian_rank", "normal_basis", "project", "residual", "scaled_jacobian",
-                     "sparse_tangent_basis", "tangent_basis"), ".implicit"),
+    **dict.fromkeys(("ImplicitManifold", "constraint_curvature", "hessian_form", "jacobian_rank", "normal_basis",
+                     "project", "project_many", "residual", "scaled_jacobian", "sparse_tangent_basis",
+                     "tangent_basis"), ".implicit"),
     **dict.fromkeys(("DEFAULT_ATOL", "DEFAULT_RTOL", "RankDecision", "numerical_rank", "rank_of_values"), ".rank"),
     **dict.fromkeys(("LocalRank", "largest_rank", "local_rank", "sample_manifold"), ".sampling"),
 }

@@ -69,6 +69,19 @@ def rotation_log(rotation):
     return vectors.reshape(rotation.shape[:-2] + (3,))
 
 
+def _factor_indices(factors, point_slices, tangent_slices):
+    """Factor name -> (indices into a point, indices into a tangent vector) of all factors of that kind,
+    in order (an SO3 factor's nine entries, then the next one's)."""
+    indices = {}
+    for name in FACTORS:
+        chosen = [index for index, factor in enumerate(factors) if factor == name]
+        indices[name] = tuple(
+            np.array([position for index in chosen for position in range(parts[index].start, parts[index].stop)],
+                     dtype=np.intp)
+            for parts in (point_slices, tangent_slices))
+    return indices
+
+
 def _wrap(angle):
     """Wrap angles to [-π, π)."""
     return (np.asarray(angle) + np.pi) % (2.0 * np.pi) - np.pi
@@ -104,6 +117,10 @@ class AmbientSpace:
     scales: tuple = None
     point_slices: tuple = field(init=False, repr=False)
     tangent_slices: tuple = field(init=False, repr=False)
+    _dim: int = field(init=False, repr=False)
+    _point_size: int = field(init=False, repr=False)
+    _tangent_scales: np.ndarray = field(init=False, repr=False)
+    _indices: dict = field(init=False, repr=False)
 
     def __post_init__(self):
         factors = tuple(self.factors)
@@ -125,34 +142,39 @@ class AmbientSpace:
             tangent_slices.append(slice(tangent_start, tangent_start + dim))
             point_start += point_size
             tangent_start += dim
+        tangent_scales = np.concatenate(
+            [np.full(FACTORS[f][1], s) for f, s in zip(factors, scales)]
+        ) if factors else np.zeros(0)
+        tangent_scales.setflags(write=False)
         object.__setattr__(self, "factors", factors)
         object.__setattr__(self, "scales", scales)
         object.__setattr__(self, "point_slices", tuple(point_slices))
         object.__setattr__(self, "tangent_slices", tuple(tangent_slices))
+        object.__setattr__(self, "_dim", tangent_start)
+        object.__setattr__(self, "_point_size", point_start)
+        object.__setattr__(self, "_tangent_scales", tangent_scales)
+        object.__setattr__(self, "_indices", _factor_indices(factors, point_slices, tangent_slices))
 
     @property
     def dim(self):
         """Dimension k of the space (length of a tangent vector)."""
-        return sum(FACTORS[factor][1] for factor in self.factors)
+        return self._dim
 
     @property
     def point_size(self):
         """Number of floats that store one point."""
-        return sum(FACTORS[factor][0] for factor in self.factors)
+        return self._point_size
 
     @property
     def tangent_scales(self):
-        """Per tangent coordinate, the scale of its factor, shape=[dim]."""
-        return np.concatenate(
-            [np.full(FACTORS[f][1], s) for f, s in zip(self.factors, self.scales)]
-        ) if self.factors else np.zeros(0)
+        """Per tangent coordinate, the scale of its factor, shape=[dim] (read-only, computed once)."""
+        return self._tangent_scales
 
     def neutral(self):
         """The point with all coordinates zero and all rotations identity, shape=[point_size]."""
         point = np.zeros(self.point_size)
-        for factor, part in zip(self.factors, self.point_slices):
-            if factor == "SO3":
-                point[part] = np.eye(3).ravel()
+        rotations = self._indices["SO3"][0]
+        point[rotations] = np.tile(np.eye(3).ravel(), len(rotations) // 9)
         return point
 
     def retract(self, point, tangent_vec):
@@ -171,13 +193,16 @@ class AmbientSpace:
         tangent_vec = np.asarray(tangent_vec, dtype=float)
         shape = np.broadcast_shapes(point.shape[:-1], tangent_vec.shape[:-1])
         moved = np.array(np.broadcast_to(point, shape + (self.point_size,)))
-        for factor, part, tangent_part in zip(self.factors, self.point_slices, self.tangent_slices):
-            if factor == "SO3":
-                rotation = moved[..., part].reshape(shape + (3, 3))
-                step = rotation_exp(np.broadcast_to(tangent_vec[..., tangent_part], shape + (3,)))
-                moved[..., part] = (rotation @ step).reshape(shape + (9,))
-            else:
-                moved[..., part] = moved[..., part] + tangent_vec[..., tangent_part]
+        for factor in ("R", "S1"):
+            point_indices, tangent_indices = self._indices[factor]
+            moved[..., point_indices] = moved[..., point_indices] + tangent_vec[..., tangent_indices]
+        point_indices, tangent_indices = self._indices["SO3"]
+        if point_indices.size:
+            count = len(point_indices) // 9
+            rotation = moved[..., point_indices].reshape(shape + (count, 3, 3))
+            step = rotation_exp(np.broadcast_to(tangent_vec[..., tangent_indices].reshape(
+                tangent_vec.shape[:-1] + (count, 3)), shape + (count, 3)))
+            moved[..., point_indices] = (rotation @ step).reshape(shape + (9 * count,))
         return moved
 
     def inverse_retract(self, point, other):
@@ -195,16 +220,18 @@ class AmbientSpace:
         other = np.asarray(other, dtype=float)
         shape = np.broadcast_shapes(point.shape[:-1], other.shape[:-1])
         tangent_vec = np.zeros(shape + (self.dim,))
-        for factor, part, tangent_part in zip(self.factors, self.point_slices, self.tangent_slices):
-            if factor == "SO3":
-                rotation = point[..., part].reshape(point.shape[:-1] + (3, 3))
-                target = other[..., part].reshape(other.shape[:-1] + (3, 3))
-                relative = np.swapaxes(rotation, -1, -2) @ target
-                tangent_vec[..., tangent_part] = rotation_log(relative)
-            elif factor == "S1":
-                tangent_vec[..., tangent_part] = _wrap(other[..., part] - point[..., part])
-            else:
-                tangent_vec[..., tangent_part] = other[..., part] - point[..., part]
+        point_indices, tangent_indices = self._indices["R"]
+        tangent_vec[..., tangent_indices] = other[..., point_indices] - point[..., point_indices]
+        point_indices, tangent_indices = self._indices["S1"]
+        tangent_vec[..., tangent_indices] = _wrap(other[..., point_indices] - point[..., point_indices])
+        point_indices, tangent_indices = self._indices["SO3"]
+        if point_indices.size:
+            count = len(point_indices) // 9
+            rotation = point[..., point_indices].reshape(point.shape[:-1] + (count, 3, 3))
+            target = rotation if other is point else other[..., point_indices].reshape(
+                other.shape[:-1] + (count, 3, 3))
+            relative = np.swapaxes(rotation, -1, -2) @ target
+            tangent_vec[..., tangent_indices] = rotation_log(relative).reshape(shape + (3 * count,))
         return tangent_vec
 
     def random_point(self, rng, center=None, size=None):

@@ -14,7 +14,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .errors import ProjectionError
-from .implicit import _tangent_scales, project
+from .implicit import project
 
 __all__ = ["CurveCertificate", "continue_curve"]
 
@@ -68,7 +68,7 @@ def continue_curve(manifold, point, direction, length=0.1, step=0.01, tolerance=
     CurveCertificate
     """
     ambient = manifold.ambient
-    scales = _tangent_scales(ambient)
+    scales = ambient.tangent_scales
     start = np.asarray(point, dtype=float)
     direction = np.asarray(direction, dtype=float) / scales
     direction = direction / np.linalg.norm(direction)

@@ -15,33 +15,31 @@ the same factor, so no decision depends on it.
 
 Sparsity. A manifold may declare where DΦ can be nonzero
 (:class:`JacobianPattern`, with ``constraint_jacobian_entries`` giving the
-entries there). Its rows and columns split into *blocks*, the connected
-components of the pattern (for a mechanism, groups of loops that share
-joints), and columns no row touches. After permuting rows and columns DΦ is
-block diagonal, so its singular values are the union of the blocks', its
-kernel the direct sum of theirs, and a minimum-norm solve is one per block.
-From :data:`BLOCK_THRESHOLD` coordinates on, :func:`project`,
-:func:`jacobian_rank`, :func:`tangent_basis`, :func:`normal_basis` and
-:func:`constraint_curvature` work block by block (blocks of one shape in one
-batched SVD): the same decisions (every cut is relative to σ₁ of the whole
-DΦ, as for the dense matrix) at a cost that grows with the blocks, not with
-k². Below the threshold everything is dense, as for any manifold without a
-pattern. D²Φ is contracted by ``constraint_hessian_form`` where the manifold
-gives one (:func:`hessian_form`), never formed as a c×k×k array.
+entries there): after permuting rows and columns DΦ is block diagonal
+(:mod:`manifold.blocks`). From :data:`BLOCK_THRESHOLD` coordinates on,
+:func:`project`, :func:`jacobian_rank`, :func:`tangent_basis`,
+:func:`normal_basis` and :func:`constraint_curvature` work block by block
+(blocks of one shape in one batched SVD): the same decisions (every cut is
+relative to σ₁ of the whole DΦ, as for the dense matrix) at a cost that
+grows with the blocks, not with k². Below the threshold everything is dense,
+as for any manifold without a pattern. D²Φ is contracted by
+``constraint_hessian_form`` where the manifold gives one
+(:func:`hessian_form`), never formed as a c×k×k array.
+:func:`project_many` projects a stack of points at once (dense Jacobians).
 """
 
 from __future__ import annotations
 
-import weakref
-from dataclasses import dataclass, field
-from functools import cached_property
+from dataclasses import dataclass
 from typing import Callable, Optional
 
 import numpy as np
 
+from . import blocks as blocks_module
 from .ambient import AmbientSpace
+from .blocks import JacobianPattern, apply_pseudo_inverse, block_rank, block_vectors, decompose
 from .errors import ProjectionError
-from .rank import DEFAULT_ATOL, DEFAULT_RTOL, numerical_rank, rank_of_values
+from .rank import DEFAULT_ATOL, DEFAULT_RTOL, numerical_rank
 
 __all__ = [
     "BLOCK_THRESHOLD",
@@ -54,6 +52,7 @@ __all__ = [
     "jacobian_rank",
     "hessian_form",
     "project",
+    "project_many",
     "tangent_basis",
     "sparse_tangent_basis",
     "normal_basis",
@@ -71,122 +70,6 @@ STEP_RCOND = 1e-12
 CHUNK_ENTRIES = 2 ** 20
 #: a projection handled block by block stops when the residual fell by less than 1% over this many iterations
 STALL_WINDOW = 10
-
-
-@dataclass(frozen=True, eq=False)
-class _BlockGroup:
-    """Blocks of DΦ of one shape: ``DΦ[rows[b][:, None], columns[b]] = padded_entries[positions[b]]``.
-
-    Attributes
-    ----------
-    rows : ndarray, shape=[blocks, r]
-    columns : ndarray, shape=[blocks, q]
-    positions : ndarray, shape=[blocks, r, q]
-        Index of each entry in the pattern's entry list, or ``nnz`` (a zero) off the pattern.
-    """
-
-    rows: np.ndarray
-    columns: np.ndarray
-    positions: np.ndarray
-
-
-@dataclass(frozen=True, eq=False)
-class JacobianPattern:
-    """Where DΦ can be nonzero: entry e at ``(rows[e], columns[e])``, no two entries at one place.
-
-    Parameters
-    ----------
-    shape : tuple of int
-        ``(c, k)``.
-    rows, columns : array_like of int, shape=[nnz]
-
-    Attributes
-    ----------
-    blocks : tuple of _BlockGroup
-        The connected components of the pattern (rows and columns linked by
-        an entry), grouped by shape; computed on first use.
-    free_columns : ndarray of int
-        Columns no entry touches (directions along which Φ is constant).
-
-    Examples
-    --------
-    >>> pattern = JacobianPattern((2, 3), [0, 0, 1], [0, 1, 2])
-    >>> [group.columns.tolist() for group in pattern.blocks], pattern.free_columns.tolist()
-    ([[[0, 1]], [[2]]], [])
-    """
-
-    shape: tuple
-    rows: np.ndarray
-    columns: np.ndarray
-    nnz: int = field(init=False)
-
-    def __post_init__(self):
-        rows = np.asarray(self.rows, dtype=np.intp).ravel()
-        columns = np.asarray(self.columns, dtype=np.intp).ravel()
-        if rows.shape != columns.shape:
-            raise ValueError(f"Expected as many rows as columns in the pattern, got {rows.shape} and {columns.shape}")
-        object.__setattr__(self, "shape", (int(self.shape[0]), int(self.shape[1])))
-        object.__setattr__(self, "rows", rows)
-        object.__setattr__(self, "columns", columns)
-        object.__setattr__(self, "nnz", int(rows.size))
-
-    @cached_property
-    def _components(self):
-        from scipy.sparse import coo_array
-        from scipy.sparse.csgraph import connected_components
-
-        c, k = self.shape
-        graph = coo_array((np.ones(self.nnz), (self.rows, c + self.columns)), shape=(c + k, c + k))
-        _, labels = connected_components(graph, directed=False)
-        return labels[:c], labels[c:]
-
-    @cached_property
-    def blocks(self):
-        row_labels, column_labels = self._components
-        rows_of, columns_of = _members(row_labels), _members(column_labels)
-        shapes = {}
-        for label in columns_of:
-            if label in rows_of:
-                shapes.setdefault((len(rows_of[label]), len(columns_of[label])), []).append(label)
-        local_row, local_column = _local_positions(row_labels), _local_positions(column_labels)
-        entry_labels = column_labels[self.columns]
-        place = np.full(int(column_labels.max(initial=-1)) + 1, -1, dtype=np.intp)
-        groups = []
-        for (row_count, column_count), labels in shapes.items():
-            place[labels] = np.arange(len(labels))
-            chosen = np.flatnonzero(place[entry_labels] >= 0)
-            positions = np.full((len(labels), row_count, column_count), self.nnz, dtype=np.intp)
-            positions[place[entry_labels[chosen]], local_row[self.rows[chosen]],
-                      local_column[self.columns[chosen]]] = chosen
-            place[labels] = -1
-            groups.append(_BlockGroup(np.array([rows_of[label] for label in labels], dtype=np.intp),
-                                      np.array([columns_of[label] for label in labels], dtype=np.intp),
-                                      positions))
-        return tuple(groups)
-
-    @cached_property
-    def free_columns(self):
-        touched = np.zeros(self.shape[1], dtype=bool)
-        touched[self.columns] = True
-        return np.flatnonzero(~touched)
-
-
-def _members(labels):
-    """label -> sorted indices carrying it."""
-    order = np.argsort(labels, kind="stable")
-    boundaries = np.flatnonzero(np.diff(labels[order])) + 1
-    return {int(labels[part[0]]): part for part in np.split(order, boundaries) if len(part)}
-
-
-def _local_positions(labels):
-    """Position of each index among the indices of its label, in increasing order."""
-    order = np.argsort(labels, kind="stable")
-    sorted_labels = labels[order]
-    starts = np.flatnonzero(np.r_[True, sorted_labels[1:] != sorted_labels[:-1]]) if len(labels) else np.zeros(0, int)
-    first = np.repeat(starts, np.diff(np.r_[starts, len(labels)]))
-    positions = np.empty(len(labels), dtype=np.intp)
-    positions[order] = np.arange(len(labels)) - first
-    return positions
 
 
 @dataclass(frozen=True, eq=False)
@@ -226,19 +109,6 @@ class ImplicitManifold:
     constraint_hessian_form: Optional[Callable] = None
 
 
-_SCALES = weakref.WeakKeyDictionary()
-
-
-def _tangent_scales(ambient):
-    """:attr:`AmbientSpace.tangent_scales`, computed once per ambient space (read-only)."""
-    scales = _SCALES.get(ambient)
-    if scales is None:
-        scales = np.array(ambient.tangent_scales, dtype=float)
-        scales.setflags(write=False)
-        _SCALES[ambient] = scales
-    return scales
-
-
 def _blocked(manifold):
     """Whether `manifold` is handled block by block (a pattern, its entries, and k ≥ :data:`BLOCK_THRESHOLD`)."""
     return (manifold.pattern is not None and manifold.constraint_jacobian_entries is not None
@@ -262,35 +132,7 @@ def scaled_jacobian(manifold, point):
     -------
     jacobian : ndarray, shape=[..., c, k]
     """
-    return np.asarray(manifold.constraint_jacobian(point), dtype=float) * _tangent_scales(manifold.ambient)
-
-
-# --------------------------------------------------------------------------- blocks
-
-def _block_values(manifold, point):
-    """The blocks of DΦ(point)·diag(s): one array [b, r, q] per block group."""
-    pattern = manifold.pattern
-    entries = np.asarray(manifold.constraint_jacobian_entries(point), dtype=float)
-    padded = np.concatenate([entries, np.zeros(1)])
-    scales = _tangent_scales(manifold.ambient)
-    return [padded[group.positions] * scales[group.columns][:, None, :] for group in pattern.blocks]
-
-
-def _decomposition(manifold, point):
-    """SVD (full matrices) of every block of DΦ(point)·diag(s), blocks of one shape in one batched call:
-    ``[(block group, singular values [b, min(r, q)], Vᴴ [b, q, q])]``."""
-    decomposed = []
-    for group, blocks in zip(manifold.pattern.blocks, _block_values(manifold, point)):
-        _, values, right = np.linalg.svd(blocks, full_matrices=True)
-        decomposed.append((group, values, right))
-    return decomposed
-
-
-def _all_values(values, shape):
-    """Every singular value of DΦ·diag(s) from the blocks', shape=[min(c, k)]: the blocks' values, and
-    exact zeros for rows no entry touches and for blocks with more rows than columns."""
-    values = np.concatenate([entry.ravel() for entry in values]) if values else np.zeros(0)
-    return np.concatenate([values, np.zeros(max(min(shape) - len(values), 0))])
+    return np.asarray(manifold.constraint_jacobian(point), dtype=float) * manifold.ambient.tangent_scales
 
 
 def jacobian_rank(manifold, point, rtol=DEFAULT_RTOL, atol=DEFAULT_ATOL):
@@ -310,101 +152,9 @@ def jacobian_rank(manifold, point, rtol=DEFAULT_RTOL, atol=DEFAULT_ATOL):
         return numerical_rank(scaled_jacobian(manifold, point), rtol=rtol, atol=atol)
     shape = manifold.pattern.shape
     if min(shape) == 0:
-        return numerical_rank(np.zeros(shape), rtol=rtol, atol=atol)
-    values = [np.linalg.svd(blocks, compute_uv=False) for blocks in _block_values(manifold, point)]
-    return rank_of_values(_all_values(values, shape), rtol=rtol, atol=atol)
-
-
-def _block_vectors(decomposition, tolerance, kernel):
-    """Right singular vectors of the blocks (dimensionless): the kernel ones (σ ≤ `tolerance`) or the
-    row-space ones, as ``[(columns [n, q], vectors [n, q])]``."""
-    pieces = []
-    for group, values, right in decomposition:
-        ranks = np.count_nonzero(values > tolerance, axis=-1)                     # [b]
-        beyond = np.arange(right.shape[-2]) >= ranks[:, None]                     # [b, q]
-        block, row = np.nonzero(beyond if kernel else ~beyond)
-        pieces.append((group.columns[block], right[block, row]))
-    return pieces
-
-
-def _assemble(pieces, size, extra_columns=()):
-    """The [k, count] matrix whose columns are the pieces' vectors (and unit vectors at `extra_columns`)."""
-    count = sum(len(vectors) for _, vectors in pieces) + len(extra_columns)
-    matrix = np.zeros((size, count))
-    start = 0
-    for columns, vectors in pieces:
-        number = np.arange(start, start + len(vectors))
-        matrix[columns, number[:, None]] = vectors
-        start += len(vectors)
-    matrix[np.asarray(extra_columns, dtype=np.intp), np.arange(start, count)] = 1.0
-    return matrix
-
-
-@dataclass(frozen=True, eq=False)
-class _PseudoInverse:
-    """``(DΦ(point)·diag(s))⁺`` block by block (see :func:`_pseudo_inverse`).
-
-    Attributes
-    ----------
-    shape : tuple
-        ``(c, k)``.
-    factors : tuple
-        ``(block group, U [b, r, s], 1/σ or 0 [b, s], Vᴴ [b, s, q])`` of the blocks solved densely.
-    iterative : tuple
-        ``(block group, blocks [b, r, q])`` of the blocks solved by LSQR.
-    rcond : float
-    """
-
-    shape: tuple
-    factors: tuple
-    iterative: tuple
-    rcond: float
-
-
-def _pseudo_inverse(manifold, point, rcond, sparse=True):
-    """The pseudo-inverse of DΦ(point)·diag(s), block by block.
-
-    Singular values at most ``rcond · σ₁`` (σ₁ of the whole matrix) count as
-    zero, as in ``numpy.linalg.lstsq`` and ``numpy.linalg.pinv``. Blocks with
-    more than :data:`SPARSE_BLOCK_COLUMNS` columns are left to LSQR when
-    `sparse` (its iterates from zero converge to the minimum-norm solution).
-    """
-    pattern = manifold.pattern
-    decomposed, iterative, largest = [], [], 0.0
-    for group, blocks in zip(pattern.blocks, _block_values(manifold, point)):
-        if sparse and group.columns.shape[1] > SPARSE_BLOCK_COLUMNS:
-            iterative.append((group, blocks))
-            continue
-        left, values, right = np.linalg.svd(blocks, full_matrices=False)
-        decomposed.append((group, left, values, right))
-        largest = max(largest, float(values.max(initial=0.0)))
-    factors = tuple((group, left, np.divide(1.0, values, out=np.zeros_like(values), where=values > rcond * largest),
-                     right) for group, left, values, right in decomposed)
-    return _PseudoInverse(pattern.shape, factors, tuple(iterative), rcond)
-
-
-def _apply(pseudo_inverse, right_hand_side):
-    """The minimum-norm least-squares solutions u of ``DΦ·diag(s) u = b``, shape=[k, ...], for b of
-    shape=[c, ...]."""
-    from_rows = np.asarray(right_hand_side, dtype=float)
-    trailing = from_rows.shape[1:]
-    flat = from_rows.reshape(pseudo_inverse.shape[0], -1)
-    solution = np.zeros((pseudo_inverse.shape[1], flat.shape[1]))
-    for group, left, inverse, right in pseudo_inverse.factors:
-        projected = np.swapaxes(left, -1, -2) @ flat[group.rows]                    # [b, s, n]
-        solution[group.columns] = np.swapaxes(right, -1, -2) @ (inverse[..., None] * projected)
-    if pseudo_inverse.iterative:
-        from scipy.sparse import csr_array
-        from scipy.sparse.linalg import lsqr
-
-        for group, blocks in pseudo_inverse.iterative:
-            for rows, columns, block in zip(group.rows, group.columns, blocks):
-                matrix = csr_array(block)
-                for index in range(flat.shape[1]):
-                    solution[columns, index] = lsqr(matrix, flat[rows, index], atol=1e-14, btol=1e-14,
-                                                    conlim=1.0 / pseudo_inverse.rcond,
-                                                    iter_lim=20 * len(columns))[0]
-    return solution.reshape((pseudo_inverse.shape[1],) + trailing)
+        return block_rank([], shape, rtol=rtol, atol=atol)
+    values = [np.linalg.svd(blocks, compute_uv=False) for blocks in blocks_module.scaled_blocks(manifold, point)]
+    return block_rank(values, shape, rtol=rtol, atol=atol)
 
 
 # --------------------------------------------------------------------------- second derivatives
@@ -430,7 +180,7 @@ def hessian_form(manifold, point, left, right=None):
     return np.einsum("cab,ai,bj->cij", manifold.constraint_hessian(point), left, right)
 
 
-# --------------------------------------------------------------------------- projection and bases
+# --------------------------------------------------------------------------- projection
 
 def project(manifold, point, tolerance=1e-12, max_iterations=60, max_step=None):
     """Gauss-Newton projection of one point onto M.
@@ -469,7 +219,7 @@ def project(manifold, point, tolerance=1e-12, max_iterations=60, max_step=None):
     """
     point = np.array(point, dtype=float)
     ambient = manifold.ambient
-    scales = _tangent_scales(ambient)
+    scales = ambient.tangent_scales
     blocked = _blocked(manifold)
     value = manifold.constraint(point)
     history = []
@@ -479,9 +229,10 @@ def project(manifold, point, tolerance=1e-12, max_iterations=60, max_step=None):
         if steps == max_iterations or history[-1] <= tolerance or (blocked and _stalled(history)):
             break
         if blocked:
-            step = -scales * _apply(_pseudo_inverse(manifold, point, STEP_RCOND), value)
+            inverse = blocks_module.pseudo_inverse(manifold, point, STEP_RCOND, sparse_columns=SPARSE_BLOCK_COLUMNS)
+            step = -scales * apply_pseudo_inverse(inverse, value)
             if max_step is not None:
-                _cap_blocks(manifold.pattern, step, max_step)
+                blocks_module.cap_block_steps(manifold.pattern, step, max_step)
         else:
             step = -scales * np.linalg.lstsq(scaled_jacobian(manifold, point), value, rcond=STEP_RCOND)[0]
             norm = np.linalg.norm(step)
@@ -505,22 +256,68 @@ def _stalled(history):
     return len(history) > STALL_WINDOW and history[-1] > 0.99 * history[-1 - STALL_WINDOW]
 
 
-def _cap_blocks(pattern, step, max_step):
-    """Scale, in place, each block's part of `step` down to norm at most `max_step`."""
-    for group in pattern.blocks:
-        norms = np.linalg.norm(step[group.columns], axis=-1)                      # [b]
-        factors = np.minimum(1.0, max_step / np.maximum(norms, np.finfo(float).tiny))
-        step[group.columns] *= factors[:, None]
+def project_many(manifold, points, tolerance=1e-12, max_iterations=60):
+    """Gauss-Newton projection of a stack of points onto M, all at once: :func:`project` point by point.
 
+    Every point whose residual exceeds `tolerance` iterates
+    ``p ← p ⊕ (−s·(DΦ(p)·s)⁺ Φ(p))`` (one batched pseudo-inverse of the dense
+    Jacobians per iteration) until ``|Φ(p)| ≤ tolerance``; a point that
+    reaches it (or whose residual is not finite) stops moving. Unlike
+    :func:`project` nothing is raised: the points that did not converge are
+    reported, and ``manifold.is_solution`` (which takes one point) is not
+    applied: a caller with a batched check (e.g. :func:`mechanisms.closes`)
+    applies it to the stack.
+
+    Parameters
+    ----------
+    manifold : ImplicitManifold
+        Its ``constraint`` and ``constraint_jacobian`` must take stacks of points.
+    points : array_like, shape=[..., point_size]
+    tolerance : float
+    max_iterations : int
+
+    Returns
+    -------
+    projected : ndarray, shape=[..., point_size]
+    reached : ndarray of bool, shape=[...]
+        Whether ``|Φ| ≤ tolerance`` at the projected point.
+
+    Examples
+    --------
+    >>> circle = ImplicitManifold(AmbientSpace(("R", "R")), lambda p: (p ** 2).sum(-1, keepdims=True) - 1,
+    ...                           lambda p: 2 * p[..., None, :])
+    >>> projected, reached = project_many(circle, [[2.0, 0.0], [0.0, 0.5]])
+    >>> bool(np.allclose(projected, [[1, 0], [0, 1]])), reached.tolist()
+    (True, [True, True])
+    """
+    ambient = manifold.ambient
+    scales = ambient.tangent_scales
+    requested = np.asarray(points, dtype=float)
+    projected = requested.reshape(-1, ambient.point_size).copy()
+    values = np.asarray(manifold.constraint(projected), dtype=float).reshape(len(projected), -1)
+    active = np.arange(len(projected))
+    for _ in range(max_iterations):
+        norms = np.linalg.norm(values, axis=-1)
+        keep = ~(norms <= tolerance) & np.isfinite(norms)
+        active, values = active[keep], values[keep]
+        if not len(active):
+            break
+        jacobian = np.asarray(manifold.constraint_jacobian(projected[active]), dtype=float) * scales
+        steps = -scales * np.einsum("akc,ac->ak", np.linalg.pinv(jacobian, rcond=STEP_RCOND), values)
+        projected[active] = ambient.retract(projected[active], steps)
+        values = np.asarray(manifold.constraint(projected[active]), dtype=float).reshape(len(active), -1)
+    norms = np.linalg.norm(np.asarray(manifold.constraint(projected), dtype=float).reshape(len(projected), -1),
+                           axis=-1)
+    shape = requested.shape[:-1]
+    return projected.reshape(requested.shape), (norms <= tolerance).reshape(shape)
+
+
+# --------------------------------------------------------------------------- bases
 
 def _blocked_decision(manifold, point, rtol, atol):
     """Block SVDs (full matrices) of DΦ(point)·diag(s) and the rank decision of the whole matrix."""
-    decomposition = _decomposition(manifold, point)
-    shape = manifold.pattern.shape
-    if min(shape) == 0:
-        return decomposition, numerical_rank(np.zeros(shape), rtol=rtol, atol=atol)
-    return decomposition, rank_of_values(_all_values([entry[1] for entry in decomposition], shape), rtol=rtol,
-                                         atol=atol)
+    decomposition = decompose(manifold, point)
+    return decomposition, block_rank([entry[1] for entry in decomposition], manifold.pattern.shape, rtol, atol)
 
 
 def tangent_basis(manifold, point, rtol=DEFAULT_RTOL, atol=DEFAULT_ATOL):
@@ -547,11 +344,11 @@ def tangent_basis(manifold, point, rtol=DEFAULT_RTOL, atol=DEFAULT_ATOL):
     decision : RankDecision
         The rank of DΦ(point)·diag(s).
     """
-    scales = _tangent_scales(manifold.ambient)
+    scales = manifold.ambient.tangent_scales
     if _blocked(manifold):
         decomposition, decision = _blocked_decision(manifold, point, rtol, atol)
-        pieces = _block_vectors(decomposition, decision.tolerance, kernel=True)
-        basis = _assemble(pieces, manifold.ambient.dim, manifold.pattern.free_columns)
+        pieces = block_vectors(decomposition, decision.tolerance, kernel=True)
+        basis = blocks_module.dense_basis(pieces, manifold.ambient.dim, manifold.pattern.free_columns)
         basis *= scales[:, None]
         return basis, decision
     jacobian = scaled_jacobian(manifold, point)
@@ -577,26 +374,15 @@ def sparse_tangent_basis(manifold, point, rtol=DEFAULT_RTOL, atol=DEFAULT_ATOL):
     basis : scipy.sparse.csc_array, shape=[k, k - rank]
     decision : RankDecision
     """
-    from scipy.sparse import coo_array
-
     if not _blocked(manifold):
+        from scipy.sparse import coo_array
+
         basis, decision = tangent_basis(manifold, point, rtol=rtol, atol=atol)
         return coo_array(basis).tocsc(), decision
-    scales = _tangent_scales(manifold.ambient)
     decomposition, decision = _blocked_decision(manifold, point, rtol, atol)
-    rows, columns, values, start = [], [], [], 0
-    for block_columns, vectors in _block_vectors(decomposition, decision.tolerance, kernel=True):
-        rows.append(block_columns.ravel())
-        columns.append(np.repeat(np.arange(start, start + len(vectors)), block_columns.shape[-1]))
-        values.append((vectors * scales[block_columns]).ravel())
-        start += len(vectors)
-    free = manifold.pattern.free_columns
-    rows.append(free)
-    columns.append(np.arange(start, start + len(free)))
-    values.append(scales[free])
-    basis = coo_array((np.concatenate(values), (np.concatenate(rows), np.concatenate(columns))),
-                      shape=(manifold.ambient.dim, start + len(free)))
-    return basis.tocsc(), decision
+    pieces = block_vectors(decomposition, decision.tolerance, kernel=True)
+    return blocks_module.sparse_basis(pieces, manifold.ambient.tangent_scales, manifold.pattern.free_columns), \
+        decision
 
 
 def normal_basis(manifold, point, rtol=DEFAULT_RTOL, atol=DEFAULT_ATOL):
@@ -604,7 +390,8 @@ def normal_basis(manifold, point, rtol=DEFAULT_RTOL, atol=DEFAULT_ATOL):
     coordinates u = v / s), shape=[k, rank]."""
     if _blocked(manifold):
         decomposition, decision = _blocked_decision(manifold, point, rtol, atol)
-        return _assemble(_block_vectors(decomposition, decision.tolerance, kernel=False), manifold.ambient.dim)
+        pieces = block_vectors(decomposition, decision.tolerance, kernel=False)
+        return blocks_module.dense_basis(pieces, manifold.ambient.dim)
     jacobian = scaled_jacobian(manifold, point)
     decision = numerical_rank(jacobian, rtol=rtol, atol=atol)
     _, _, vh = np.linalg.svd(jacobian, full_matrices=True)
@@ -644,15 +431,15 @@ def constraint_curvature(manifold, point, basis, rtol=DEFAULT_RTOL, right=None):
     """
     basis = np.asarray(basis, dtype=float)
     other = basis if right is None else np.asarray(right, dtype=float)
-    scales = _tangent_scales(manifold.ambient)
+    scales = manifold.ambient.tangent_scales
     if _blocked(manifold):
-        inverse = _pseudo_inverse(manifold, point, rtol, sparse=False)
+        inverse = blocks_module.pseudo_inverse(manifold, point, rtol)
         count, size = basis.shape[1], other.shape[1]
         acceleration = np.empty((manifold.ambient.dim, count, size))
         chunk = max(1, CHUNK_ENTRIES // max(1, size * sum(manifold.pattern.shape)))
         for start in range(0, count, chunk):
             second = hessian_form(manifold, point, basis[:, start:start + chunk], other)
-            acceleration[:, start:start + chunk] = _apply(inverse, second)
+            acceleration[:, start:start + chunk] = apply_pseudo_inverse(inverse, second)
         acceleration *= -scales[:, None, None]
         return acceleration
     if manifold.constraint_hessian is None:

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .errors import ProjectionError
-from .implicit import _tangent_scales, jacobian_rank, project
+from .implicit import jacobian_rank, project
 from .rank import DEFAULT_ATOL, DEFAULT_RTOL, numerical_rank
 
 __all__ = ["LocalRank", "local_rank", "sample_manifold", "largest_rank"]
@@ -57,7 +57,7 @@ def local_rank(manifold, point, rng, count=6, radius=1e-3, rtol=DEFAULT_RTOL, at
     LocalRank
     """
     ambient = manifold.ambient
-    scales = _tangent_scales(ambient)
+    scales = ambient.tangent_scales
     rank = jacobian_rank(manifold, point, rtol=rtol, atol=atol).rank
     neighbours = []
     attempts = 0
@@ -102,7 +102,7 @@ def sample_manifold(manifold, rng, starts, random_count=24, walk_count=24, step=
     samples : ndarray, shape=[count, point_size]
     """
     ambient = manifold.ambient
-    scales = _tangent_scales(ambient)
+    scales = ambient.tangent_scales
     starts = np.atleast_2d(np.asarray(starts, dtype=float))
     samples = [start for start in starts]
     for guess in ambient.random_point(rng, center=starts[0], size=random_count):

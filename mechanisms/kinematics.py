@@ -32,8 +32,9 @@ Sparsity. A loop touches only the joints on it, so DΦ has nonzero entries in
 its loop's rows and its joints' columns only, and D²Φ is a small dense block
 per loop (rows × the loop's coordinates²). Chains of the same shape (the same
 sequence of coordinate slots, e.g. the rungs of a ladder of four-bar loops)
-are evaluated together, one array operation per element position, so the
-cost grows with the number of joints, not with Python loops over them. The
+are evaluated together (:mod:`mechanisms._chains`), one array operation per
+element position, so the cost grows with the number of joints, not with
+Python loops over them. The
 constant pattern of DΦ (:func:`constraint_pattern`) and its entries
 (:func:`constraint_jacobian_entries`) give the manifold its block structure
 (:class:`manifold.JacobianPattern`); D²Φ is contracted loop by loop
@@ -44,16 +45,15 @@ constant pattern of DΦ (:func:`constraint_pattern`) and its entries
 from __future__ import annotations
 
 import weakref
-from collections import deque
-from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Optional
 
 import numpy as np
 
 from manifold import AmbientSpace, ImplicitManifold
-from manifold.implicit import JacobianPattern
+from manifold.blocks import JacobianPattern
 
+from . import _chains as chains
 from . import _groups as groups
 from .joints import joint_factors
 
@@ -64,72 +64,6 @@ __all__ = [
     "end_effector", "end_effector_jacobian", "end_effector_hessian", "end_effector_chart",
     "end_effector_dimension", "actuator_jacobian", "link_pose",
 ]
-
-
-@dataclass(frozen=True, eq=False)
-class _Element:
-    kind: str                 # "rotation", "translation" or "ball"
-    point_part: object        # index or slice into the point
-    tangent_indices: tuple    # global tangent coordinates moved by this element
-    twists: tuple             # constant twist matrices, one per tangent coordinate
-    sign: float = 1.0         # -1 for a joint traversed backwards (1-dof elements)
-    center: Optional[np.ndarray] = None  # ball joints
-    inverse: bool = False     # ball joint traversed backwards (left perturbation)
-
-
-@dataclass(frozen=True, eq=False)
-class _Chain:
-    elements: tuple
-
-
-@dataclass(frozen=True, eq=False)
-class _Group:
-    """Chains of one shape, evaluated together: one array operation per element position.
-
-    Two chains have the same shape when they have as many elements and their
-    coordinates sit at the same slots of the product (the same sequence of
-    1-dof elements, forward balls and backward balls); the matrices differ.
-
-    Attributes
-    ----------
-    chains : ndarray, shape=[g]
-        Positions of the chains in their set (loop numbers, or 0 for one link chain).
-    slots, numbers : ndarray, shape=[C]
-        Per coordinate in product order: the slot of the product where its
-        twist is inserted, and its element's position in the chain.
-    columns : ndarray, shape=[g, C]
-        Tangent index of each coordinate.
-    twists : ndarray, shape=[g, C, n, n]
-        Twist inserted for each coordinate.
-    values : ndarray, shape=[g, L]
-        Index into the point of each 1-dof element's value (0 for ball elements).
-    signs : ndarray, shape=[g, L]
-        -1 for a 1-dof element traversed backwards.
-    element_twists, element_squares : ndarray, shape=[g, L, n, n]
-        X and X² of each 1-dof element (its forward twist; zero for balls):
-        the element is ``I + a X + b X²`` (``a = sin θ, b = 1 − cos θ`` for a
-        rotation, ``a = θ, b = 0`` for a translation, θ the signed value).
-    rotation : ndarray of bool, shape=[g, L]
-    balls : tuple or None
-        ``(chain positions [b], element positions [b], point indices [b, 9],
-        centres [b, 3], backwards [b])`` of the ball elements.
-    """
-
-    chains: np.ndarray
-    slots: np.ndarray
-    numbers: np.ndarray
-    columns: np.ndarray
-    twists: np.ndarray
-    values: np.ndarray
-    signs: np.ndarray
-    element_twists: np.ndarray
-    element_squares: np.ndarray
-    rotation: np.ndarray
-    balls: Optional[tuple]
-
-    @property
-    def length(self):
-        return self.values.shape[1]
 
 
 @dataclass(frozen=True, eq=False)
@@ -151,7 +85,7 @@ class Kinematics:
         (one per ambient factor: one for R, P, S; two for U, C).
     length : float
         Characteristic length dividing translation rows.
-    loop_groups : tuple of _Group
+    loop_groups : tuple of ChainGroup
         The loops sorted into groups of one shape (evaluated together).
     pattern : JacobianPattern
         Where DΦ can be nonzero: each loop's rows by its coordinates' columns.
@@ -170,138 +104,10 @@ class Kinematics:
     loop_groups: tuple = ()
     pattern: Optional[JacobianPattern] = None
     point_size: int = 0
-    link_groups: dict = None  # link name -> its chain's _Group, built on first use
+    link_groups: dict = None  # link name -> its chain's ChainGroup, built on first use
 
 
 _CACHE = weakref.WeakKeyDictionary()
-
-
-def _joint_elements(mechanism, joint, point_parts, tangent_start):
-    """The forward elements of one joint."""
-    space = mechanism.space
-    elements = []
-    if joint.type == "S":
-        center = np.asarray(joint.point, dtype=float)
-        twists = tuple(groups.rotation_twist(space, axis, center) for axis in np.eye(3))
-        elements.append(_Element("ball", point_parts[0], tuple(range(tangent_start, tangent_start + 3)),
-                                 twists, center=center))
-        return elements
-    if joint.type == "R":
-        specs = [("rotation", joint.axis)]
-    elif joint.type == "P":
-        specs = [("translation", joint.axis)]
-    elif joint.type == "U":
-        specs = [("rotation", joint.axes[0]), ("rotation", joint.axes[1])]
-    else:  # C
-        specs = [("rotation", joint.axis), ("translation", joint.axis)]
-    for offset, (kind, axis) in enumerate(specs):
-        if kind == "rotation":
-            twist = groups.rotation_twist(space, axis, joint.point)
-        else:
-            twist = groups.translation_twist(space, axis)
-        elements.append(_Element(kind, point_parts[offset].start, (tangent_start + offset,), (twist,)))
-    return elements
-
-
-def _inverted(element):
-    """The element of the joint traversed from its second link to its first."""
-    twists = tuple(-twist for twist in element.twists)
-    if element.kind == "ball":
-        return _Element("ball", element.point_part, element.tangent_indices, twists,
-                        center=element.center, inverse=not element.inverse)
-    return _Element(element.kind, element.point_part, element.tangent_indices, twists,
-                    sign=-element.sign)
-
-
-def _traverse(joint_elements, steps):
-    """Elements along a list of (joint index, forward) steps."""
-    elements = []
-    for index, forward in steps:
-        if forward:
-            elements += joint_elements[index]
-        else:
-            elements += [_inverted(element) for element in reversed(joint_elements[index])]
-    return _Chain(tuple(elements))
-
-
-def _coordinates(chain):
-    """(tangent index, twist, slot, element number) in product order."""
-    coordinates = []
-    for number, element in enumerate(chain.elements):
-        slot = number if element.inverse else number + 1
-        for index, twist in zip(element.tangent_indices, element.twists):
-            coordinates.append((index, twist, slot, number))
-    coordinates.sort(key=lambda entry: (entry[2], entry[3]))
-    return coordinates
-
-
-def _shape(chain):
-    """What chains evaluated together must share: element count and coordinate slots."""
-    return len(chain.elements), tuple((slot, number) for _, _, slot, number in _coordinates(chain))
-
-
-def _group(space, chains, positions):
-    """The :class:`_Group` of chains of one shape (:func:`_shape`)."""
-    size = groups.MATRIX_SIZE[space]
-    coordinates = [_coordinates(chain) for chain in chains]
-    length = len(chains[0].elements)
-    count = len(chains)
-    values = np.zeros((count, length), dtype=np.intp)
-    signs = np.ones((count, length))
-    element_twists = np.zeros((count, length, size, size))
-    rotation = np.zeros((count, length), dtype=bool)
-    balls = []
-    for row, chain in enumerate(chains):
-        for number, element in enumerate(chain.elements):
-            if element.kind == "ball":
-                start = element.point_part.start
-                balls.append((row, number, np.arange(start, start + 9), element.center, element.inverse))
-                continue
-            values[row, number] = element.point_part
-            signs[row, number] = element.sign
-            element_twists[row, number] = element.twists[0] * element.sign
-            rotation[row, number] = element.kind == "rotation"
-    ball_arrays = None
-    if balls:
-        ball_arrays = (np.array([entry[0] for entry in balls], dtype=np.intp),
-                       np.array([entry[1] for entry in balls], dtype=np.intp),
-                       np.array([entry[2] for entry in balls], dtype=np.intp),
-                       np.array([entry[3] for entry in balls], dtype=float),
-                       np.array([entry[4] for entry in balls], dtype=bool))
-    return _Group(
-        chains=np.asarray(positions, dtype=np.intp),
-        slots=np.array([entry[2] for entry in coordinates[0]], dtype=np.intp),
-        numbers=np.array([entry[3] for entry in coordinates[0]], dtype=np.intp),
-        columns=np.array([[entry[0] for entry in chain] for chain in coordinates], dtype=np.intp)
-        .reshape(count, -1),
-        twists=np.array([[entry[1] for entry in chain] for chain in coordinates], dtype=float)
-        .reshape(count, -1, size, size),
-        values=values, signs=signs, element_twists=element_twists,
-        element_squares=element_twists @ element_twists, rotation=rotation, balls=ball_arrays,
-    )
-
-
-def _groups_of(space, chains):
-    """The chains sorted into groups of one shape, in order of first appearance."""
-    shapes = {}
-    for position, chain in enumerate(chains):
-        shapes.setdefault(_shape(chain), []).append(position)
-    return tuple(_group(space, [chains[position] for position in positions], positions)
-                 for positions in shapes.values())
-
-
-def _pattern(space, loop_groups, loop_count, dim):
-    """The constant sparsity pattern of DΦ, entries in the order of :func:`constraint_jacobian_entries`."""
-    rows_per_loop = groups.LOOP_ROWS[space]
-    rows, columns = [], []
-    for group in loop_groups:
-        loop_rows = group.chains[:, None] * rows_per_loop + np.arange(rows_per_loop)  # [g, R]
-        shape = (len(group.chains), group.columns.shape[1], rows_per_loop)
-        rows.append(np.broadcast_to(loop_rows[:, None, :], shape).ravel())
-        columns.append(np.broadcast_to(group.columns[:, :, None], shape).ravel())
-    rows = np.concatenate(rows) if rows else np.zeros(0, dtype=np.intp)
-    columns = np.concatenate(columns) if columns else np.zeros(0, dtype=np.intp)
-    return JacobianPattern((rows_per_loop * loop_count, dim), rows, columns)
 
 
 def kinematics_of(mechanism):
@@ -321,193 +127,33 @@ def kinematics_of(mechanism):
         count = len(joint_factors(joint))
         parts = ambient.point_slices[factor_index: factor_index + count]
         point_parts[joint.name] = parts
-        joint_elements.append(_joint_elements(mechanism, joint, parts, tangent_start))
+        joint_elements.append(chains.elements_of_joint(mechanism, joint, parts, tangent_start))
         factor_index += count
         tangent_start += sum(3 if f == "SO3" else 1 for f in joint_factors(joint))
-    # spanning tree by breadth-first search from the ground, joints in file order
-    incident = {}
-    for index, joint in enumerate(mechanism.joints):
-        for link in dict.fromkeys(joint.links):
-            incident.setdefault(link, []).append(index)
-    parents = {mechanism.ground: None}  # link -> (joint index, forward, parent link) on the tree
-    depths = {mechanism.ground: 0}
-    tree_joints = set()
-    queue = deque([mechanism.ground])
-    while queue:
-        link = queue.popleft()
-        for index in incident.get(link, ()):
-            joint = mechanism.joints[index]
-            if index in tree_joints:
-                continue
-            other = joint.links[1] if joint.links[0] == link else joint.links[0]
-            if other in parents:
-                continue
-            parents[other] = (index, joint.links[0] == link, link)
-            depths[other] = depths[link] + 1
-            tree_joints.add(index)
-            queue.append(other)
-    loops, chords = [], []
-    for index, joint in enumerate(mechanism.joints):
-        if index in tree_joints:
-            continue
-        first, second = _branches(parents, depths, *joint.links)
-        steps = first + [(index, True)] + [(i, not forward) for i, forward in reversed(second)]
-        loops.append(_traverse(joint_elements, steps))
-        chords.append(joint.name)
-    link_chains = _LinkChains(lambda link: _traverse(joint_elements, _path(parents, link)), tuple(parents))
-    loop_groups = _groups_of(mechanism.space, loops)
+    loops, chords, link_chains = chains.chains_of(mechanism, joint_elements)
+    loop_groups = chains.groups_of(mechanism.space, loops)
     end_effector = mechanism.end_effector
     compiled = Kinematics(
-        space=mechanism.space, ambient=ambient, loops=tuple(loops), chords=tuple(chords),
+        space=mechanism.space, ambient=ambient, loops=loops, chords=chords,
         link_chains=link_chains, point_parts=point_parts, length=length,
         end_effector_link=None if end_effector is None else end_effector.link,
         end_effector_point=None if end_effector is None or end_effector.point is None
         else np.asarray(end_effector.point, dtype=float),
         output=None if end_effector is None else end_effector.output,
-        loop_groups=loop_groups, pattern=_pattern(mechanism.space, loop_groups, len(loops), ambient.dim),
+        loop_groups=loop_groups, pattern=chains.loop_pattern(mechanism.space, loop_groups, len(loops), ambient.dim),
         point_size=ambient.point_size, link_groups={},
     )
     _CACHE[mechanism] = compiled
     return compiled
 
 
-def _path(parents, link):
-    """The (joint index, forward) steps of the tree from the ground to `link`."""
-    steps = []
-    while parents[link] is not None:
-        index, forward, link = parents[link]
-        steps.append((index, forward))
-    return steps[::-1]
-
-
-def _branches(parents, depths, first, second):
-    """The tree paths to two links from their deepest common ancestor: two lists of (joint index, forward)."""
-    branches = ([], [])
-    links = [first, second]
-    while links[0] != links[1]:
-        side = 0 if depths[links[0]] >= depths[links[1]] else 1
-        index, forward, parent = parents[links[side]]
-        branches[side].append((index, forward))
-        links[side] = parent
-    return branches[0][::-1], branches[1][::-1]
-
-
-class _LinkChains(Mapping):
-    """Link name -> chain from the ground to that link, each built on first use."""
-
-    def __init__(self, build, links):
-        self._build, self._links, self._chains = build, links, {}
-
-    def __getitem__(self, link):
-        if link not in self._chains:
-            if link not in self._links:
-                raise KeyError(link)
-            self._chains[link] = self._build(link)
-        return self._chains[link]
-
-    def __iter__(self):
-        return iter(self._links)
-
-    def __len__(self):
-        return len(self._links)
-
-
 def _link_group(compiled, link):
-    """The :class:`_Group` of the chain from the ground to `link` (built on first use)."""
+    """The :class:`~mechanisms._chains.ChainGroup` of the chain from the ground to `link` (built on first use)."""
     group = compiled.link_groups.get(link)
     if group is None:
-        group = _group(compiled.space, [compiled.link_chains[link]], [0])
+        group = chains.chain_group(compiled.space, [compiled.link_chains[link]], [0])
         compiled.link_groups[link] = group
     return group
-
-
-# --------------------------------------------------------------------------- chains
-
-def _element_matrices(space, group, point):
-    """The element matrices of every chain of a group, shape=[..., g, L, n, n]."""
-    size = groups.MATRIX_SIZE[space]
-    value = group.signs * point[..., group.values]                 # [..., g, L]
-    rotation = group.rotation
-    first = np.where(rotation, np.sin(value), value)[..., None, None]
-    second = np.where(rotation, 1.0 - np.cos(value), 0.0)[..., None, None]
-    matrices = np.eye(size) + first * group.element_twists + second * group.element_squares
-    if group.balls is not None:
-        chain_positions, element_positions, indices, centers, backwards = group.balls
-        rotations = point[..., indices].reshape(point.shape[:-1] + (len(centers), 3, 3))
-        ball = np.zeros(point.shape[:-1] + (len(centers), 4, 4))
-        ball[..., :3, :3] = rotations
-        ball[..., :3, 3] = centers - np.einsum("...bij,bj->...bi", rotations, centers)
-        ball[..., 3, 3] = 1.0
-        ball = np.where(backwards[:, None, None], groups.inverse(space, ball), ball)
-        matrices[..., chain_positions, element_positions, :, :] = ball
-    return matrices
-
-
-def _expand_group(space, group, point, order):
-    """T, its first derivatives and (order 2) second derivatives along the chains of a group.
-
-    Returns
-    -------
-    product : ndarray, shape=[..., g, n, n]
-    first : ndarray, shape=[..., g, C, n, n] or None (order 0)
-    second : ndarray, shape=[..., g, C, C, n, n] or None (order < 2)
-    """
-    size = groups.MATRIX_SIZE[space]
-    matrices = _element_matrices(space, group, point)                # [..., g, L, n, n]
-    length = group.length
-    identity = np.broadcast_to(np.eye(size), matrices.shape[:-3] + (size, size))
-    prefix = [identity]
-    for number in range(length):
-        prefix.append(prefix[-1] @ matrices[..., number, :, :])
-    if order < 1:
-        return prefix[-1], None, None
-    suffix = [identity] * (length + 1)
-    for number in range(length - 1, -1, -1):
-        suffix[number] = matrices[..., number, :, :] @ suffix[number + 1]
-    prefix = np.stack(prefix, axis=-3)                               # [..., g, L + 1, n, n]
-    suffix = np.stack(suffix, axis=-3)
-    slots = group.slots
-    first = prefix[..., slots, :, :] @ group.twists @ suffix[..., slots, :, :]
-    if order < 2:
-        return prefix[..., -1, :, :], first, None
-    count = len(slots)
-    second = np.zeros(first.shape[:-3] + (count, count, size, size))
-    for row in range(count):
-        slot, number = slots[row], group.numbers[row]
-        inserted = prefix[..., slot, :, :] @ group.twists[:, row]       # [..., g, n, n]
-        running = [inserted]                                              # products up to slots slot, slot + 1, ...
-        for position in range(slot, length):
-            running.append(running[-1] @ matrices[..., position, :, :])
-        running = np.stack(running, axis=-3)                              # [..., g, L + 1 − slot, n, n]
-        columns = np.arange(row, count)
-        values = (running[..., slots[columns] - slot, :, :] @ group.twists[:, columns]
-                  @ suffix[..., slots[columns], :, :])                    # [..., g, C − row, n, n]
-        same = np.flatnonzero(group.numbers[columns] == number)
-        if len(same):
-            twist_a = group.twists[:, row][:, None]
-            twist_b = group.twists[:, columns[same]]
-            values[..., same, :, :] = (0.5 * prefix[..., slot, :, :][..., None, :, :]
-                                       @ (twist_a @ twist_b + twist_b @ twist_a)
-                                       @ suffix[..., slot, :, :][..., None, :, :])
-        second[..., row, row:, :, :] = values
-        second[..., row:, row, :, :] = values
-    return prefix[..., -1, :, :], first, second
-
-
-def _expand(space, chain, point, order):
-    """T, its first derivatives and (order 2) second derivatives along one chain.
-
-    Returns
-    -------
-    product : ndarray, shape=[..., n, n]
-    coordinates : list
-        (tangent index, twist, slot, element number) in product order.
-    first : ndarray, shape=[..., C, n, n] or None (order 0)
-    second : ndarray, shape=[..., C, C, n, n] or None (order < 2)
-    """
-    product, first, second = _expand_group(space, _group(space, [chain], [0]), point, order)
-    return (product[..., 0, :, :], _coordinates(chain), None if first is None else first[..., 0, :, :, :],
-            None if second is None else second[..., 0, :, :, :, :])
 
 
 def _as_points(mechanism, point):
@@ -536,15 +182,6 @@ def configuration_space(mechanism):
     )
 
 
-def _loop_products(compiled, point):
-    """Every loop product, shape=[..., loops, n, n]."""
-    size = groups.MATRIX_SIZE[compiled.space]
-    products = np.zeros(point.shape[:-1] + (len(compiled.loops), size, size))
-    for group in compiled.loop_groups:
-        products[..., group.chains, :, :] = _expand_group(compiled.space, group, point, 0)[0]
-    return products
-
-
 def constraint(mechanism, point):
     """Loop-closure map Φ(point), rows loop by loop, shape=[..., c].
 
@@ -553,7 +190,7 @@ def constraint(mechanism, point):
     """
     compiled = kinematics_of(mechanism)
     point = _as_points(mechanism, point)
-    rows = groups.loop_rows(compiled.space, _loop_products(compiled, point), compiled.length)
+    rows = groups.loop_rows(compiled.space, chains.loop_products(compiled, point), compiled.length)
     return rows.reshape(point.shape[:-1] + (-1,))
 
 
@@ -567,8 +204,9 @@ def constraint_jacobian_entries(mechanism, point):
     """The entries of DΦ(point) at :func:`constraint_pattern`, in its order, shape=[..., nnz]."""
     compiled = kinematics_of(mechanism)
     point = _as_points(mechanism, point)
-    entries = [groups.loop_rows(compiled.space, _expand_group(compiled.space, group, point, 1)[1], compiled.length)
-               .reshape(point.shape[:-1] + (-1,)) for group in compiled.loop_groups]  # [..., g, C, R] each
+    entries = [groups.loop_rows(compiled.space, chains.expand_group(compiled.space, group, point, 1)[1],
+                                compiled.length).reshape(point.shape[:-1] + (-1,))
+               for group in compiled.loop_groups]  # [..., g, C, R] each
     return np.concatenate(entries, axis=-1) if entries else np.zeros(point.shape[:-1] + (0,))
 
 
@@ -582,15 +220,6 @@ def constraint_jacobian(mechanism, point):
     return jacobian
 
 
-def _hessian_blocks(compiled, point):
-    """D²Φ loop by loop: per group ``(rows [g, R], columns [g, C], values [..., g, R, C, C])``."""
-    rows_per_loop = groups.LOOP_ROWS[compiled.space]
-    for group in compiled.loop_groups:
-        second = _expand_group(compiled.space, group, point, 2)[2]
-        values = np.moveaxis(groups.loop_rows(compiled.space, second, compiled.length), -1, -3)
-        yield group.chains[:, None] * rows_per_loop + np.arange(rows_per_loop), group.columns, values
-
-
 def constraint_hessian(mechanism, point):
     """D²Φ(point) in the recentred chart, shape=[..., c, k, k].
 
@@ -600,7 +229,7 @@ def constraint_hessian(mechanism, point):
     compiled = kinematics_of(mechanism)
     point = _as_points(mechanism, point)
     hessian = np.zeros(point.shape[:-1] + compiled.pattern.shape + (compiled.ambient.dim,))
-    for rows, columns, values in _hessian_blocks(compiled, point):
+    for rows, columns, values in chains.hessian_blocks(compiled, point):
         hessian[..., rows[:, :, None, None], columns[:, None, :, None], columns[:, None, None, :]] = values
     return hessian
 
@@ -625,7 +254,7 @@ def constraint_hessian_form(mechanism, point, left, right=None):
     left = np.asarray(left, dtype=float)
     right = left if right is None else np.asarray(right, dtype=float)
     form = np.zeros(point.shape[:-1] + (compiled.pattern.shape[0], left.shape[1], right.shape[1]))
-    for rows, columns, values in _hessian_blocks(compiled, point):
+    for rows, columns, values in chains.hessian_blocks(compiled, point):
         form[..., rows, :, :] = np.einsum("...grab,gai,gbj->...grij", values, left[columns], right[columns],
                                           optimize=True)
     return form
@@ -635,7 +264,7 @@ def closes(mechanism, point, tolerance=1e-9):
     """Whether every loop closes: ‖Φ‖ ≤ tolerance and no loop is a half-turn, shape=[...]."""
     compiled = kinematics_of(mechanism)
     point = _as_points(mechanism, point)
-    products = _loop_products(compiled, point)
+    products = chains.loop_products(compiled, point)
     rows = groups.loop_rows(compiled.space, products, compiled.length)
     return (np.all(np.linalg.norm(rows, axis=-1) <= tolerance, axis=-1)
             & np.all(groups.is_identity_rotation(compiled.space, products), axis=-1))
@@ -645,7 +274,7 @@ def link_pose(mechanism, link, point):
     """Pose of a link relative to its home pose, in the ground frame, shape=[..., n, n]."""
     compiled = kinematics_of(mechanism)
     point = _as_points(mechanism, point)
-    return _expand_group(compiled.space, _link_group(compiled, link), point, 0)[0][..., 0, :, :]
+    return chains.expand_group(compiled.space, _link_group(compiled, link), point, 0)[0][..., 0, :, :]
 
 
 def actuator_jacobian(mechanism):
@@ -731,11 +360,11 @@ def end_effector_chart(mechanism, base_value, value):
 
 def _end_effector_expansion(mechanism, point, order):
     """The chain to the end-effector's link: (compiled, point, group, product, first, second), the chain
-    axis of :func:`_expand` removed."""
+    axis of :func:`~mechanisms._chains.expand_group` removed."""
     compiled = _require_end_effector(mechanism)
     point = _as_points(mechanism, point)
     group = _link_group(compiled, compiled.end_effector_link)
-    product, first, second = _expand_group(compiled.space, group, point, order)
+    product, first, second = chains.expand_group(compiled.space, group, point, order)
     return (compiled, point, group, product[..., 0, :, :], None if first is None else first[..., 0, :, :, :],
             None if second is None else second[..., 0, :, :, :, :])
 

@@ -182,21 +182,22 @@ def _batch_points(arguments, mechanism, named):
     """The batch's configurations on M, and their projection distances (None without --project)."""
     from mechanisms import CLOSURE_TOLERANCE, validate_displacements
 
-    from . import _batch_io as batch_io
+    from . import _configurations as configurations
+    from ._batch_io import read_batch
 
     validate_displacements(mechanism, named, "--configuration")
-    base = batch_io.displacement_vector(mechanism, named)
-    matrix = batch_io.read_batch(arguments.batch, mechanism, base)
-    points = batch_io.points_of(mechanism, matrix)
+    base = configurations.displacement_vector(mechanism, named)
+    matrix = read_batch(arguments.batch, mechanism, base)
+    points = configurations.points_of(mechanism, matrix)
     where = f"--batch: {printable(arguments.batch)}"
     if arguments.project:
-        points, reached, distance = batch_io.project_many(mechanism, points, CLOSURE_TOLERANCE)
+        points, reached, distance = configurations.project_configurations(mechanism, points, CLOSURE_TOLERANCE)
         if not reached.all():
             row = int(reached.argmin())
             raise InputError(f"{where}: row {row + 1}: projection onto the configuration space failed (no "
                              f"configuration closing the loops near it)")
         return points, distance
-    row, residual = batch_io.off_manifold_row(mechanism, points, CLOSURE_TOLERANCE)
+    row, residual = configurations.off_manifold_row(mechanism, points, CLOSURE_TOLERANCE)
     if row is not None:
         problem = (f"|Φ| = {residual:.3g} > {CLOSURE_TOLERANCE:g}" if residual > CLOSURE_TOLERANCE
                    else "a loop closes with a half-turn")
@@ -210,18 +211,20 @@ def _run_batch(arguments, out):
 
     from ..batch import classify_many
     from ..model import model_of
-    from . import _batch_io as batch_io
+    from . import _outputs as outputs
+    from ._batch_io import model_survey
+    from ._configurations import displacements_of, joint_displacements
 
     _check_batch_options(arguments)
-    file_format = batch_io.output_format(arguments.out) if arguments.out is not None else None
+    file_format = outputs.output_format(arguments.out) if arguments.out is not None else None
     mechanism, named = source(arguments)
     points, distance = _batch_points(arguments, mechanism, named)
     _warn_serial(mechanism)
     model = model_of(mechanism, arguments.length_scale)
-    survey = batch_io.model_survey(arguments.survey, model)
+    survey = model_survey(arguments.survey, model)
     result = classify_many(model, points, survey=survey, progress=show_progress())
-    displacements_matrix = batch_io.displacements_of(mechanism, result.points)
-    summary = "classified " + batch_io.summary_line(batch_io.kind_counts(result), len(result))
+    displacements_matrix = displacements_of(mechanism, result.points)
+    summary = "classified " + outputs.summary_line(outputs.kind_counts(result), len(result))
     if file_format == "npz":
         arrays = dict(result.arrays())
         arrays.update({"row": np.arange(1, len(result) + 1), "points": result.points,
@@ -229,15 +232,15 @@ def _run_batch(arguments, out):
                        "coordinate_names": np.array(mechanism.coordinate_names)})
         if distance is not None:
             arrays["projection_distance"] = distance
-        batch_io.write_npz(arguments.out, arrays)
+        outputs.write_npz(arguments.out, arrays)
         out.write(f"{summary}; written to {printable(arguments.out)}\n")
         return
-    rows = _rows(result, batch_io.joint_displacements(mechanism, displacements_matrix), distance)
+    rows = _rows(result, joint_displacements(mechanism, displacements_matrix), distance)
     if file_format is not None:
-        batch_io.write_rows(arguments.out, rows)
+        outputs.write_rows(arguments.out, rows)
         out.write(f"{summary}; written to {printable(arguments.out)}\n")
     elif arguments.format == "text":
-        table = batch_io.result_table(("row",), [((str(row["row"]),), row) for row in rows])
+        table = outputs.result_table(("row",), [((str(row["row"]),), row) for row in rows])
         out.write(f"{table}\n\n{summary}\n")
     else:
         import json

@@ -3,7 +3,7 @@
 coordinates.
 
 The grid is over joint coordinates given as displacements from the home, as
-``--at`` gives them (``A``, ``S1[x]``, ``U1[2]``; :mod:`classify.cli._batch_io`);
+``--at`` gives them (``A``, ``S1[x]``, ``U1[2]``; :mod:`classify.cli._names`);
 the coordinates not on the grid keep the value of the configuration the
 command starts from (``--configuration``, else the home; a catalogue entry's
 home is its configuration). Each grid point becomes a configuration on M in
@@ -123,7 +123,7 @@ def held_columns(mechanism, grid):
     grid), and the actuated coordinates off the grid when every grid
     coordinate is actuated.
     """
-    from ._batch_io import coordinate_columns
+    from ._names import coordinate_columns
 
     held = set(grid.columns)
     for name, columns in coordinate_columns(mechanism).items():
@@ -426,15 +426,15 @@ def _configurations(arguments, mechanism, named, grid):
 
     from mechanisms import CLOSURE_TOLERANCE, configuration
 
-    from . import _batch_io as batch_io
+    from . import _configurations as configurations
 
     starting = configuration(mechanism, named, where="--configuration")
-    base = batch_io.displacement_vector(mechanism, named)
+    base = configurations.displacement_vector(mechanism, named)
     requested = np.array(np.broadcast_to(base, (grid.size, base.size)))
     requested[:, list(grid.columns)] = grid.values().reshape(grid.size, len(grid.columns))
-    targets = batch_io.points_of(mechanism, requested)
+    targets = configurations.points_of(mechanism, requested)
     if arguments.project:
-        return batch_io.project_many(mechanism, targets, CLOSURE_TOLERANCE)
+        return configurations.project_configurations(mechanism, targets, CLOSURE_TOLERANCE)
     bar = progress_bar(grid.size, "assembling", unit="point")
     try:
         points, reachable = assemble_grid(mechanism, starting.point, targets, grid.shape,
@@ -448,10 +448,10 @@ def _entries(mechanism, grid, reachable, result, displacements, distance):
     """One JSON-ready entry per grid point, in C order (see the module notes)."""
     import numpy as np
 
-    from . import _batch_io as batch_io
+    from ._configurations import joint_displacements
 
     rows = iter(result.rows())
-    given = iter(batch_io.joint_displacements(mechanism, displacements))
+    given = iter(joint_displacements(mechanism, displacements))
     coordinates = grid.values().reshape(grid.size, len(grid.names)).tolist()
     indices = np.array(np.unravel_index(np.arange(grid.size), grid.shape)).T.tolist()
     entries = []
@@ -488,9 +488,9 @@ def _arrays(mechanism, grid, points, reachable, result, displacements, distance)
 
 def _text(grid, entries, reachable, summary_text):
     """The table, the counts and, for one- and two-dimensional grids, the picture."""
-    from . import _batch_io as batch_io
+    from ._outputs import result_table
 
-    table = batch_io.result_table(
+    table = result_table(
         tuple(printable(name) for name in grid.names),
         [(tuple(f"{entry['coordinates'][name]:.6g}" for name in grid.names),
           entry if entry["reachable"] else None) for entry in entries])
@@ -505,27 +505,30 @@ def _text(grid, entries, reachable, summary_text):
 def run(arguments, out):
     from ..batch import classify_many
     from ..model import model_of
-    from . import _batch_io as batch_io
+    from . import _outputs as outputs
+    from ._batch_io import model_survey
+    from ._configurations import displacements_of
+    from ._grid import parse_grid
     from .classify_command import describe_source
 
     check_length_scale(arguments.length_scale)
     if arguments.seed:
         raise InputError("--seed: does not apply to `closedchain map` (the map is deterministic)")
-    file_format = batch_io.output_format(arguments.out) if arguments.out is not None else None
+    file_format = outputs.output_format(arguments.out) if arguments.out is not None else None
     mechanism, named = source(arguments)
-    grid = batch_io.parse_grid(arguments.grid, mechanism)
+    grid = parse_grid(arguments.grid, mechanism)
     points, reachable, distance = _configurations(arguments, mechanism, named, grid)
     model = model_of(mechanism, arguments.length_scale)
-    survey = batch_io.model_survey(arguments.survey, model)
+    survey = model_survey(arguments.survey, model)
     result = classify_many(model, points[reachable], survey=survey, progress=show_progress())
-    displacements = batch_io.displacements_of(mechanism, result.points)
+    displacements = displacements_of(mechanism, result.points)
     reached = int(reachable.sum())
     summary = {"total": grid.size, "reachable": reached, "unreachable": grid.size - reached,
-               **batch_io.kind_counts(result)}
-    summary_text = "map of " + batch_io.summary_line(summary, grid.size, "grid points")
+               **outputs.kind_counts(result)}
+    summary_text = "map of " + outputs.summary_line(summary, grid.size, "grid points")
     if file_format == "npz":
-        batch_io.write_npz(arguments.out, _arrays(mechanism, grid, points, reachable, result, displacements,
-                                                  distance))
+        outputs.write_npz(arguments.out, _arrays(mechanism, grid, points, reachable, result, displacements,
+                                                 distance))
         out.write(f"{summary_text}; written to {printable(arguments.out)}\n")
         return
     entries = _entries(mechanism, grid, reachable, result, displacements, distance)
@@ -539,7 +542,7 @@ def run(arguments, out):
                 "grid": grid.to_dict(), "shape": list(grid.shape), "survey": result.survey.to_dict(),
                 "points": entries, "summary": summary}
     if file_format is None:
-        out.write(batch_io.json_text(document) + "\n")
+        out.write(outputs.json_text(document) + "\n")
         return
-    batch_io.write_rows(arguments.out, entries, document)
+    outputs.write_rows(arguments.out, entries, document)
     out.write(f"{summary_text}; written to {printable(arguments.out)}\n")

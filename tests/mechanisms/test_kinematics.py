@@ -122,7 +122,7 @@ def test_second_derivative_on_tangent_vectors_is_the_lie_bracket_form(name):
     form of the twists carried to the configuration (twice the second-order term of the
     Baker-Campbell-Hausdorff expansion of log of the loop product)."""
     from mechanisms import _groups as groups
-    from mechanisms.kinematics import _expand
+    from mechanisms._chains import expand as _expand
 
     rng = np.random.default_rng(13)
     mechanism = MECHANISMS[name]()

@@ -1,0 +1,128 @@
+"""Grids of joint coordinates for ``closedchain map --grid NAME=a:b:n ...``.
+
+NAME is a coordinate name (:mod:`classify.cli._names`), a and b finite
+numbers, n an integer ≥ 1 (``numpy.linspace(a, b, n)``; n = 1 needs a = b);
+at most :data:`GRID_POINT_LIMIT` points in all. Every refusal is one line
+naming the option's text and the field.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from mechanisms.joints import COORDINATE_LIMIT
+
+from ._common import InputError
+from ._names import coordinate_column, shown
+
+__all__ = ["GRID_POINT_LIMIT", "Grid", "parse_grid"]
+
+#: most points of a --grid (the product of the counts)
+GRID_POINT_LIMIT = 1_000_000
+
+
+@dataclass(frozen=True)
+class Grid:
+    """A rectangular grid of coordinate values (``--grid NAME=a:b:n ...``).
+
+    Attributes
+    ----------
+    names : tuple of str
+        The coordinate names, one per grid axis.
+    columns : tuple of int
+        Their columns in a displacement matrix (indices into ``mechanism.coordinate_names``).
+    starts, stops : tuple of float
+    counts : tuple of int
+    """
+
+    names: tuple
+    columns: tuple
+    starts: tuple
+    stops: tuple
+    counts: tuple
+
+    @property
+    def shape(self):
+        return tuple(self.counts)
+
+    @property
+    def size(self):
+        return math.prod(self.counts)
+
+    def axes(self):
+        """The values along each axis, a list of arrays of shape=[n_i]."""
+        return [np.linspace(start, stop, count) for start, stop, count in zip(self.starts, self.stops, self.counts)]
+
+    def values(self):
+        """The coordinates of every grid point, shape=[*shape, d] (C order: the last axis varies fastest)."""
+        return np.stack(np.meshgrid(*self.axes(), indexing="ij"), axis=-1)
+
+    def to_dict(self):
+        """``{name: [a, b, n]}``."""
+        return {name: [start, stop, count]
+                for name, start, stop, count in zip(self.names, self.starts, self.stops, self.counts)}
+
+
+def _grid_number(text, what, where):
+    try:
+        value = float(text)
+    except ValueError:
+        raise InputError(f"{where}: {what}: expected a number, got {shown(text) if text.strip() else 'nothing'}") \
+            from None
+    if not math.isfinite(value):
+        raise InputError(f"{where}: {what}: expected a finite number, got {shown(text)}")
+    if abs(value) > COORDINATE_LIMIT:
+        raise InputError(f"{where}: {what}: {value:g} is out of range (at most {COORDINATE_LIMIT:g} in absolute "
+                         f"value)")
+    return value
+
+
+def parse_grid(texts, mechanism):
+    """The :class:`Grid` of ``--grid`` texts ``NAME=a:b:n``.
+
+    Raises
+    ------
+    InputError
+        ``--grid 'TEXT': ...`` (one line): no ``=``, not three fields, a
+        non-finite bound, a count that is not an integer ≥ 1 (or 1 with
+        a ≠ b), an unknown or repeated coordinate, or more than
+        :data:`GRID_POINT_LIMIT` points in all.
+    """
+    names, columns, starts, stops, counts = [], [], [], [], []
+    size = 1
+    for text in texts:
+        where = f"--grid {shown(text, 60)}"
+        name, equals, spec = text.rpartition("=")
+        if not equals or not name.strip():
+            raise InputError(f"{where}: expected NAME=a:b:n (a coordinate name, the first and last values and "
+                             f"the number of points)")
+        name = name.strip()
+        fields = spec.split(":")
+        if len(fields) != 3:
+            raise InputError(f"{where}: expected NAME=a:b:n with three fields after '=', got {len(fields)}")
+        start = _grid_number(fields[0], "a", where)
+        stop = _grid_number(fields[1], "b", where)
+        count_text = fields[2].strip()
+        if not count_text.isdecimal() or len(count_text) > 12 or int(count_text) < 1:
+            raise InputError(f"{where}: n: expected an integer ≥ 1, got "
+                             f"{shown(fields[2]) if count_text else 'nothing'}")
+        count = int(count_text)
+        if count == 1 and start != stop:
+            raise InputError(f"{where}: n = 1 gives one point: a and b must be equal (got {start:g} and {stop:g})")
+        column = coordinate_column(mechanism, name, where)
+        if column in columns:
+            raise InputError(f"{where}: coordinate {shown(mechanism.coordinate_names[column])} is on the grid twice")
+        size *= count
+        if size > GRID_POINT_LIMIT:
+            raise InputError(f"{where}: the grid has more than {GRID_POINT_LIMIT} points (the product of the counts)")
+        names.append(mechanism.coordinate_names[column])
+        columns.append(column)
+        starts.append(start)
+        stops.append(stop)
+        counts.append(count)
+    if not names:
+        raise InputError("--grid: expected at least one NAME=a:b:n")
+    return Grid(tuple(names), tuple(columns), tuple(starts), tuple(stops), tuple(counts))

@@ -1,0 +1,339 @@
+"""The block structure of a sparse constraint Jacobian DΦ, and linear algebra block by block.
+
+A manifold may declare where DΦ can be nonzero (:class:`JacobianPattern`,
+with ``constraint_jacobian_entries`` giving the entries there). Its rows and
+columns split into *blocks*, the connected components of the pattern (for a
+mechanism, groups of loops that share joints), and columns no row touches.
+After permuting rows and columns DΦ is block diagonal, so its singular values
+are the union of the blocks', its kernel the direct sum of theirs, and a
+minimum-norm solve is one per block. Blocks of one shape are stacked and
+decomposed by one batched SVD.
+
+Everything here works on the dimensionless Jacobian DΦ·diag(s)
+(:attr:`AmbientSpace.tangent_scales`); :mod:`manifold.implicit` decides when
+to take this path and keeps the public functions.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from functools import cached_property
+
+import numpy as np
+
+from .rank import numerical_rank, rank_of_values
+
+__all__ = [
+    "BlockGroup", "JacobianPattern", "PseudoInverse", "scaled_blocks", "decompose", "block_rank",
+    "block_vectors", "dense_basis", "sparse_basis", "pseudo_inverse", "apply_pseudo_inverse", "cap_block_steps",
+]
+
+
+@dataclass(frozen=True, eq=False)
+class BlockGroup:
+    """Blocks of DΦ of one shape: ``DΦ[rows[b][:, None], columns[b]] = padded_entries[positions[b]]``.
+
+    Attributes
+    ----------
+    rows : ndarray, shape=[blocks, r]
+    columns : ndarray, shape=[blocks, q]
+    positions : ndarray, shape=[blocks, r, q]
+        Index of each entry in the pattern's entry list, or ``nnz`` (a zero) off the pattern.
+    """
+
+    rows: np.ndarray
+    columns: np.ndarray
+    positions: np.ndarray
+
+
+@dataclass(frozen=True, eq=False)
+class JacobianPattern:
+    """Where DΦ can be nonzero: entry e at ``(rows[e], columns[e])``, no two entries at one place.
+
+    Parameters
+    ----------
+    shape : tuple of int
+        ``(c, k)``.
+    rows, columns : array_like of int, shape=[nnz]
+
+    Attributes
+    ----------
+    blocks : tuple of BlockGroup
+        The connected components of the pattern (rows and columns linked by
+        an entry), grouped by shape; computed on first use.
+    free_columns : ndarray of int
+        Columns no entry touches (directions along which Φ is constant).
+
+    Examples
+    --------
+    >>> pattern = JacobianPattern((2, 3), [0, 0, 1], [0, 1, 2])
+    >>> [group.columns.tolist() for group in pattern.blocks], pattern.free_columns.tolist()
+    ([[[0, 1]], [[2]]], [])
+    """
+
+    shape: tuple
+    rows: np.ndarray
+    columns: np.ndarray
+    nnz: int = field(init=False)
+
+    def __post_init__(self):
+        rows = np.asarray(self.rows, dtype=np.intp).ravel()
+        columns = np.asarray(self.columns, dtype=np.intp).ravel()
+        if rows.shape != columns.shape:
+            raise ValueError(f"Expected as many rows as columns in the pattern, got {rows.shape} and {columns.shape}")
+        object.__setattr__(self, "shape", (int(self.shape[0]), int(self.shape[1])))
+        object.__setattr__(self, "rows", rows)
+        object.__setattr__(self, "columns", columns)
+        object.__setattr__(self, "nnz", int(rows.size))
+
+    @cached_property
+    def _components(self):
+        from scipy.sparse import coo_array
+        from scipy.sparse.csgraph import connected_components
+
+        c, k = self.shape
+        graph = coo_array((np.ones(self.nnz), (self.rows, c + self.columns)), shape=(c + k, c + k))
+        _, labels = connected_components(graph, directed=False)
+        return labels[:c], labels[c:]
+
+    @cached_property
+    def blocks(self):
+        row_labels, column_labels = self._components
+        rows_of, columns_of = _members(row_labels), _members(column_labels)
+        shapes = {}
+        for label in columns_of:
+            if label in rows_of:
+                shapes.setdefault((len(rows_of[label]), len(columns_of[label])), []).append(label)
+        local_row, local_column = _local_positions(row_labels), _local_positions(column_labels)
+        entry_labels = column_labels[self.columns]
+        place = np.full(int(column_labels.max(initial=-1)) + 1, -1, dtype=np.intp)
+        groups = []
+        for (row_count, column_count), labels in shapes.items():
+            place[labels] = np.arange(len(labels))
+            chosen = np.flatnonzero(place[entry_labels] >= 0)
+            positions = np.full((len(labels), row_count, column_count), self.nnz, dtype=np.intp)
+            positions[place[entry_labels[chosen]], local_row[self.rows[chosen]],
+                      local_column[self.columns[chosen]]] = chosen
+            place[labels] = -1
+            groups.append(BlockGroup(np.array([rows_of[label] for label in labels], dtype=np.intp),
+                                     np.array([columns_of[label] for label in labels], dtype=np.intp),
+                                     positions))
+        return tuple(groups)
+
+    @cached_property
+    def free_columns(self):
+        touched = np.zeros(self.shape[1], dtype=bool)
+        touched[self.columns] = True
+        return np.flatnonzero(~touched)
+
+
+def _members(labels):
+    """label -> sorted indices carrying it."""
+    order = np.argsort(labels, kind="stable")
+    boundaries = np.flatnonzero(np.diff(labels[order])) + 1
+    return {int(labels[part[0]]): part for part in np.split(order, boundaries) if len(part)}
+
+
+def _local_positions(labels):
+    """Position of each index among the indices of its label, in increasing order."""
+    order = np.argsort(labels, kind="stable")
+    sorted_labels = labels[order]
+    starts = np.flatnonzero(np.r_[True, sorted_labels[1:] != sorted_labels[:-1]]) if len(labels) else np.zeros(0, int)
+    first = np.repeat(starts, np.diff(np.r_[starts, len(labels)]))
+    positions = np.empty(len(labels), dtype=np.intp)
+    positions[order] = np.arange(len(labels)) - first
+    return positions
+
+
+# --------------------------------------------------------------------------- decompositions and ranks
+
+def scaled_blocks(manifold, point):
+    """The blocks of DΦ(point)·diag(s): one array, shape=[b, r, q], per block group of ``manifold.pattern``."""
+    entries = np.asarray(manifold.constraint_jacobian_entries(point), dtype=float)
+    padded = np.concatenate([entries, np.zeros(1)])
+    scales = manifold.ambient.tangent_scales
+    return [padded[group.positions] * scales[group.columns][:, None, :] for group in manifold.pattern.blocks]
+
+
+def decompose(manifold, point):
+    """SVD (full matrices) of every block of DΦ(point)·diag(s), blocks of one shape in one batched call.
+
+    Returns
+    -------
+    list of tuple
+        ``(block group, singular values [b, min(r, q)], Vᴴ [b, q, q])``.
+    """
+    decomposed = []
+    for group, blocks in zip(manifold.pattern.blocks, scaled_blocks(manifold, point)):
+        _, values, right = np.linalg.svd(blocks, full_matrices=True)
+        decomposed.append((group, values, right))
+    return decomposed
+
+
+def block_rank(values, shape, rtol, atol):
+    """The rank decision of the whole DΦ·diag(s) of `shape` ``(c, k)`` from its blocks' singular values.
+
+    Every singular value of the whole is a block's, or an exact zero (rows no
+    entry touches, blocks with more rows than columns); the cut is relative
+    to σ₁ of the whole, as for the dense matrix (:func:`manifold.rank_of_values`).
+
+    Parameters
+    ----------
+    values : list of ndarray
+        Each block group's singular values, shape=[b, min(r, q)].
+    shape : tuple of int
+    rtol, atol : float
+
+    Returns
+    -------
+    decision : RankDecision
+    """
+    if min(shape) == 0:
+        return numerical_rank(np.zeros(shape), rtol=rtol, atol=atol)
+    values = np.concatenate([entry.ravel() for entry in values]) if values else np.zeros(0)
+    values = np.concatenate([values, np.zeros(max(min(shape) - len(values), 0))])
+    return rank_of_values(values, rtol=rtol, atol=atol)
+
+
+def block_vectors(decomposition, tolerance, kernel):
+    """Right singular vectors of the blocks (dimensionless): the kernel ones (σ ≤ `tolerance`) or the
+    row-space ones.
+
+    Returns
+    -------
+    list of tuple
+        ``(columns [n, q], vectors [n, q])`` per block group.
+    """
+    pieces = []
+    for group, values, right in decomposition:
+        ranks = np.count_nonzero(values > tolerance, axis=-1)                     # [b]
+        beyond = np.arange(right.shape[-2]) >= ranks[:, None]                     # [b, q]
+        block, row = np.nonzero(beyond if kernel else ~beyond)
+        pieces.append((group.columns[block], right[block, row]))
+    return pieces
+
+
+def dense_basis(pieces, size, extra_columns=()):
+    """The [size, count] matrix whose columns are the pieces' vectors (and unit vectors at `extra_columns`)."""
+    count = sum(len(vectors) for _, vectors in pieces) + len(extra_columns)
+    matrix = np.zeros((size, count))
+    start = 0
+    for columns, vectors in pieces:
+        number = np.arange(start, start + len(vectors))
+        matrix[columns, number[:, None]] = vectors
+        start += len(vectors)
+    matrix[np.asarray(extra_columns, dtype=np.intp), np.arange(start, count)] = 1.0
+    return matrix
+
+
+def sparse_basis(pieces, scales, free_columns):
+    """:func:`dense_basis` of the pieces times the scales, as a sparse matrix (each column on one block),
+    followed by the scaled unit vectors of the free columns.
+
+    Returns
+    -------
+    basis : scipy.sparse.csc_array, shape=[k, count]
+    """
+    from scipy.sparse import coo_array
+
+    rows, columns, values, start = [], [], [], 0
+    for block_columns, vectors in pieces:
+        rows.append(block_columns.ravel())
+        columns.append(np.repeat(np.arange(start, start + len(vectors)), block_columns.shape[-1]))
+        values.append((vectors * scales[block_columns]).ravel())
+        start += len(vectors)
+    rows.append(free_columns)
+    columns.append(np.arange(start, start + len(free_columns)))
+    values.append(scales[free_columns])
+    basis = coo_array((np.concatenate(values), (np.concatenate(rows), np.concatenate(columns))),
+                      shape=(len(scales), start + len(free_columns)))
+    return basis.tocsc()
+
+
+# --------------------------------------------------------------------------- least-squares solves
+
+@dataclass(frozen=True, eq=False)
+class PseudoInverse:
+    """``(DΦ(point)·diag(s))⁺`` block by block (see :func:`pseudo_inverse`).
+
+    Attributes
+    ----------
+    shape : tuple
+        ``(c, k)``.
+    factors : tuple
+        ``(block group, U [b, r, s], 1/σ or 0 [b, s], Vᴴ [b, s, q])`` of the blocks solved densely.
+    iterative : tuple
+        ``(block group, blocks [b, r, q])`` of the blocks solved by LSQR.
+    rcond : float
+    """
+
+    shape: tuple
+    factors: tuple
+    iterative: tuple
+    rcond: float
+
+
+def pseudo_inverse(manifold, point, rcond, sparse_columns=None):
+    """The pseudo-inverse of DΦ(point)·diag(s), block by block.
+
+    Singular values at most ``rcond · σ₁`` (σ₁ of the whole matrix) count as
+    zero, as in ``numpy.linalg.lstsq`` and ``numpy.linalg.pinv``. Blocks with
+    more than `sparse_columns` columns (if given) are left to LSQR (its
+    iterates from zero converge to the minimum-norm solution).
+
+    Returns
+    -------
+    PseudoInverse
+    """
+    pattern = manifold.pattern
+    decomposed, iterative, largest = [], [], 0.0
+    for group, blocks in zip(pattern.blocks, scaled_blocks(manifold, point)):
+        if sparse_columns is not None and group.columns.shape[1] > sparse_columns:
+            iterative.append((group, blocks))
+            continue
+        left, values, right = np.linalg.svd(blocks, full_matrices=False)
+        decomposed.append((group, left, values, right))
+        largest = max(largest, float(values.max(initial=0.0)))
+    factors = tuple((group, left, np.divide(1.0, values, out=np.zeros_like(values), where=values > rcond * largest),
+                     right) for group, left, values, right in decomposed)
+    return PseudoInverse(pattern.shape, factors, tuple(iterative), rcond)
+
+
+def apply_pseudo_inverse(inverse, right_hand_side):
+    """The minimum-norm least-squares solutions u of ``DΦ·diag(s) u = b``.
+
+    Parameters
+    ----------
+    inverse : PseudoInverse
+    right_hand_side : array_like, shape=[c, ...]
+
+    Returns
+    -------
+    solution : ndarray, shape=[k, ...]
+    """
+    from_rows = np.asarray(right_hand_side, dtype=float)
+    trailing = from_rows.shape[1:]
+    flat = from_rows.reshape(inverse.shape[0], -1)
+    solution = np.zeros((inverse.shape[1], flat.shape[1]))
+    for group, left, reciprocal, right in inverse.factors:
+        projected = np.swapaxes(left, -1, -2) @ flat[group.rows]                    # [b, s, n]
+        solution[group.columns] = np.swapaxes(right, -1, -2) @ (reciprocal[..., None] * projected)
+    if inverse.iterative:
+        from scipy.sparse import csr_array
+        from scipy.sparse.linalg import lsqr
+
+        for group, blocks in inverse.iterative:
+            for rows, columns, block in zip(group.rows, group.columns, blocks):
+                matrix = csr_array(block)
+                for index in range(flat.shape[1]):
+                    solution[columns, index] = lsqr(matrix, flat[rows, index], atol=1e-14, btol=1e-14,
+                                                    conlim=1.0 / inverse.rcond, iter_lim=20 * len(columns))[0]
+    return solution.reshape((inverse.shape[1],) + trailing)
+
+
+def cap_block_steps(pattern, step, max_step):
+    """Scale, in place, each block's part of `step` (shape=[k]) down to norm at most `max_step`."""
+    for group in pattern.blocks:
+        norms = np.linalg.norm(step[group.columns], axis=-1)                      # [b]
+        factors = np.minimum(1.0, max_step / np.maximum(norms, np.finfo(float).tiny))
+        step[group.columns] *= factors[:, None]

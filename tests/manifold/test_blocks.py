@@ -1,0 +1,92 @@
+"""manifold.blocks: block decompositions of a sparse DΦ agree with the dense linear algebra.
+
+A linear manifold Φ(x) = A x whose A has blocks of two shapes (one with more
+rows than columns), an empty row and a free column: ranks, kernels, row
+spaces, minimum-norm solves (dense and by LSQR) and capped steps computed
+block by block equal their dense counterparts.
+"""
+
+import numpy as np
+import pytest
+
+from manifold import AmbientSpace, ImplicitManifold, JacobianPattern, numerical_rank
+from manifold.blocks import (
+    apply_pseudo_inverse, block_rank, block_vectors, cap_block_steps, decompose, dense_basis, pseudo_inverse,
+    scaled_blocks, sparse_basis,
+)
+
+
+def linear_manifold(rng, singular=False):
+    """Φ(x) = A x in ℝ⁹ with A of a fixed pattern (8 × 9: row 3 empty, column 7 free); `singular` makes the
+    first block rank-deficient."""
+    matrix = np.zeros((8, 9))
+    matrix[np.ix_([0, 1], [0, 3, 5])] = rng.standard_normal((2, 3))
+    matrix[np.ix_([2, 4], [1, 2, 8])] = rng.standard_normal((2, 3))
+    matrix[np.ix_([5, 6, 7], [4, 6])] = rng.standard_normal((3, 2))
+    if singular:
+        matrix[1, [0, 3, 5]] = 2.0 * matrix[0, [0, 3, 5]]
+    rows, columns = np.nonzero(matrix)
+    manifold = ImplicitManifold(
+        AmbientSpace(("R",) * 9, tuple(rng.uniform(0.5, 2.0, 9))), lambda x: x @ matrix.T,
+        lambda x: np.broadcast_to(matrix, np.shape(x)[:-1] + matrix.shape),
+        pattern=JacobianPattern((8, 9), rows, columns),
+        constraint_jacobian_entries=lambda x: np.broadcast_to(matrix[rows, columns], np.shape(x)[:-1] + (len(rows),)))
+    return manifold, matrix * manifold.ambient.tangent_scales
+
+
+def projector(columns):
+    return columns @ np.linalg.pinv(columns)
+
+
+@pytest.mark.parametrize("singular", [False, True])
+def test_blocks_rank_kernel_and_row_space_equal_the_dense_ones(singular):
+    rng = np.random.default_rng(30)
+    manifold, dense = linear_manifold(rng, singular)
+    point = np.zeros(9)
+    blocks = scaled_blocks(manifold, point)
+    assert sorted(block.shape for block in blocks) == [(1, 3, 2), (2, 2, 3)]  # blocks of two shapes
+    decomposition = decompose(manifold, point)
+    decision = block_rank([values for _, values, _ in decomposition], dense.shape, 1e-6, 1e-12)
+    reference = numerical_rank(dense)
+    assert decision.rank == reference.rank == 6 - singular
+    assert decision.tolerance == pytest.approx(reference.tolerance, rel=1e-12)
+    np.testing.assert_allclose(decision.singular_values, reference.singular_values, atol=1e-12)
+    kernel = dense_basis(block_vectors(decomposition, decision.tolerance, kernel=True), 9,
+                         manifold.pattern.free_columns)
+    rows = dense_basis(block_vectors(decomposition, decision.tolerance, kernel=False), 9)
+    assert kernel.shape == (9, 9 - decision.rank) and rows.shape == (9, decision.rank)
+    np.testing.assert_allclose(np.hstack([kernel, rows]).T @ np.hstack([kernel, rows]), np.eye(9), atol=1e-12)
+    np.testing.assert_allclose(dense @ kernel, 0.0, atol=1e-12)
+    np.testing.assert_allclose(projector(rows), projector(dense.T), atol=1e-12)
+    scales = manifold.ambient.tangent_scales
+    sparse = sparse_basis(block_vectors(decomposition, decision.tolerance, kernel=True), scales,
+                          manifold.pattern.free_columns)
+    np.testing.assert_array_equal(sparse.toarray(), kernel * scales[:, None])
+
+
+@pytest.mark.parametrize("sparse_columns", [None, 0])
+@pytest.mark.parametrize("singular", [False, True])
+def test_block_pseudo_inverse_solves_as_the_dense_one(singular, sparse_columns):
+    rng = np.random.default_rng(31)
+    manifold, dense = linear_manifold(rng, singular)
+    right_hand_side = rng.standard_normal((8, 2, 3))
+    inverse = pseudo_inverse(manifold, np.zeros(9), 1e-12, sparse_columns=sparse_columns)
+    solution = apply_pseudo_inverse(inverse, right_hand_side)
+    expected = np.einsum("kc,cij->kij", np.linalg.pinv(dense, rcond=1e-12), right_hand_side)
+    assert solution.shape == (9, 2, 3)
+    np.testing.assert_allclose(solution, expected, atol=1e-12 if sparse_columns is None else 1e-9)
+
+
+def test_capped_steps_keep_each_block_within_the_cap():
+    rng = np.random.default_rng(32)
+    manifold, _ = linear_manifold(rng)
+    step = rng.standard_normal(9)
+    step[[1, 2, 8]] *= 1e-3  # a block already within the cap is left as it is
+    capped = step.copy()
+    cap_block_steps(manifold.pattern, capped, 0.5)
+    for group in manifold.pattern.blocks:
+        for columns in group.columns:
+            norm = np.linalg.norm(step[columns])
+            expected = step[columns] * min(1.0, 0.5 / norm)
+            np.testing.assert_allclose(capped[columns], expected, rtol=1e-15)
+    assert capped[7] == step[7]  # the free column belongs to no block
