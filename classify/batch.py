@@ -30,8 +30,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from manifold import DEFAULT_ATOL, DEFAULT_RTOL, scaled_jacobian
-from mechanisms import CLOSURE_TOLERANCE, ConfigurationError, Mechanism
+from manifold import DEFAULT_ATOL, DEFAULT_RTOL
+from mechanisms import CLOSURE_TOLERANCE, ConfigurationError, Mechanism, closure_and_jacobian
 
 from .classification import classify
 from .metrics import metric_root, proper_values, singular_values
@@ -269,26 +269,41 @@ def _decisions(values, tolerance):
     return ranks, margins
 
 
-def _off_manifold(model, points, offset):
-    """Raise, naming the first configuration that does not close the loops (as :func:`classify.classify`)."""
+def _closure_and_jacobian(model, points, offset):
+    """DΦ·diag(s) of a chunk, shape=[b, c, k], after checking that every configuration closes its loops
+    (as :func:`classify.classify`: |Φ| ≤ the closure tolerance and a point of M, not a spurious zero).
+
+    For a joint-graph mechanism Φ, the half-turn test and DΦ come from one expansion of each loop
+    (:func:`mechanisms.closure_and_jacobian`).
+
+    Raises
+    ------
+    ConfigurationError
+        Naming the index (in the whole stack) of the first configuration that does not close.
+    """
     manifold = model.manifold
-    residuals = np.linalg.norm(manifold.constraint(points), axis=-1)
-    bad = np.flatnonzero(~(residuals <= CLOSURE_TOLERANCE))
-    if not len(bad) and manifold.is_solution is not None and not manifold.is_solution(points):
-        bad = [index for index, point in enumerate(points) if not manifold.is_solution(point)]
+    if model.mechanism is not None:
+        rows, turns, jacobian = closure_and_jacobian(model.mechanism, points)
+        residuals = np.linalg.norm(rows, axis=-1)
+        bad = np.flatnonzero(~(residuals <= CLOSURE_TOLERANCE) | ~turns)
+    else:
+        residuals = np.linalg.norm(manifold.constraint(points), axis=-1)
+        bad = np.flatnonzero(~(residuals <= CLOSURE_TOLERANCE))
+        if not len(bad) and manifold.is_solution is not None and not manifold.is_solution(points):
+            bad = [index for index, point in enumerate(points) if not manifold.is_solution(point)]
+        jacobian = manifold.constraint_jacobian(points)
     if len(bad):
         index = int(bad[0])
         raise ConfigurationError(f"configuration {offset + index}: not on the C-space "
                                  f"(|Φ| = {residuals[index]:.3g}); project it first")
+    return np.asarray(jacobian, dtype=float) * manifold.ambient.tangent_scales
 
 
 def _first_order(model, points, survey, rtol, offset):
     """Columns of the first-order classification of a chunk of configurations (see the module notes)."""
-    _off_manifold(model, points, offset)
+    jacobian = _closure_and_jacobian(model, points, offset)
     count = len(points)
-    manifold = model.manifold
-    scales = manifold.ambient.tangent_scales
-    jacobian = scaled_jacobian(manifold, points)
+    scales = model.manifold.ambient.tangent_scales
     constraint_values = singular_values(jacobian)
     constraint_tolerance = np.maximum(rtol * (constraint_values[:, 0] if constraint_values.shape[1] else 0.0),
                                       DEFAULT_ATOL)

@@ -22,7 +22,7 @@ _SOURCES = {
     **dict.fromkeys(("ConfigurationError", "MechanismError"), ".errors"),
     **dict.fromkeys(("JOINT_TYPES", "OUTPUTS", "SPACES", "EndEffector", "Joint"), ".joints"),
     **dict.fromkeys(("Kinematics", "actuator_jacobian", "closes", "configuration_space", "constraint",
-                     "constraint_hessian", "constraint_hessian_form", "constraint_jacobian",
+                     "closure_and_jacobian", "constraint_hessian", "constraint_hessian_form", "constraint_jacobian",
                      "constraint_jacobian_entries", "constraint_pattern", "end_effector", "end_effector_chart",
                      "end_effector_dimension", "end_effector_hessian", "end_effector_jacobian", "kinematics_of",
                      "link_pose"), ".kinematics"),

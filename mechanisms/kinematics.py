@@ -59,7 +59,7 @@ from .joints import joint_factors
 
 __all__ = [
     "Kinematics", "kinematics_of", "configuration_space",
-    "constraint", "constraint_jacobian", "constraint_hessian", "closes",
+    "constraint", "constraint_jacobian", "closure_and_jacobian", "constraint_hessian", "closes",
     "constraint_pattern", "constraint_jacobian_entries", "constraint_hessian_form",
     "end_effector", "end_effector_jacobian", "end_effector_hessian", "end_effector_chart",
     "end_effector_dimension", "actuator_jacobian", "link_pose",
@@ -218,6 +218,46 @@ def constraint_jacobian(mechanism, point):
     jacobian = np.zeros(point.shape[:-1] + pattern.shape)
     jacobian[..., pattern.rows, pattern.columns] = constraint_jacobian_entries(mechanism, point)
     return jacobian
+
+
+def closure_and_jacobian(mechanism, point):
+    """Φ(point), whether no loop is a half-turn, and DΦ(point), from one expansion of each loop.
+
+    What :func:`constraint`, :func:`closes` (its half-turn test) and
+    :func:`constraint_jacobian` compute, for the price of one: the loop
+    products are the last prefix products of the first-order expansion.
+
+    Parameters
+    ----------
+    mechanism : Mechanism
+    point : array_like, shape=[..., point_size]
+
+    Returns
+    -------
+    rows : ndarray, shape=[..., c]
+        Φ, as :func:`constraint`.
+    turns : ndarray of bool, shape=[...]
+        Whether every loop's rotation is the identity rather than a half-turn (whose rotation rows vanish
+        too), as in :func:`closes`.
+    jacobian : ndarray, shape=[..., c, k]
+        DΦ, as :func:`constraint_jacobian`.
+    """
+    compiled = kinematics_of(mechanism)
+    point = _as_points(mechanism, point)
+    pattern = compiled.pattern
+    size = groups.MATRIX_SIZE[compiled.space]
+    products = np.zeros(point.shape[:-1] + (len(compiled.loops), size, size))
+    jacobian = np.zeros(point.shape[:-1] + pattern.shape)
+    entries = []
+    for group in compiled.loop_groups:
+        product, first, _ = chains.expand_group(compiled.space, group, point, 1)
+        products[..., group.chains, :, :] = product
+        entries.append(groups.loop_rows(compiled.space, first, compiled.length).reshape(point.shape[:-1] + (-1,)))
+    if entries:
+        jacobian[..., pattern.rows, pattern.columns] = np.concatenate(entries, axis=-1)
+    rows = groups.loop_rows(compiled.space, products, compiled.length).reshape(point.shape[:-1] + (-1,))
+    turns = np.all(groups.is_identity_rotation(compiled.space, products), axis=-1)
+    return rows, turns, jacobian
 
 
 def constraint_hessian(mechanism, point):
