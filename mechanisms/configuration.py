@@ -86,11 +86,15 @@ def to_displacements(mechanism, point):
     """The displacement mapping of a point (inverse of :func:`from_displacements`)."""
     compiled = kinematics_of(mechanism)
     point = np.asarray(point, dtype=float)
+    balls = [joint.name for joint in mechanism.joints if joint.type == "S"]
+    logarithms = dict(zip(balls, rotation_log(np.stack(
+        [point[compiled.point_parts[name][0]].reshape(3, 3) for name in balls]
+    )).tolist())) if balls else {}  # one call for every ball joint
     result = {}
     for joint in mechanism.joints:
         parts = compiled.point_parts[joint.name]
         if joint.type == "S":
-            result[joint.name] = [float(v) for v in rotation_log(point[parts[0]].reshape(3, 3))]
+            result[joint.name] = logarithms[joint.name]
         elif len(parts) == 1:
             result[joint.name] = float(point[parts[0]][0])
         else:
