@@ -2,6 +2,14 @@
 
 (The user-facing catalogue is a later issue; these builders are the minimum
 the core tests need and are written from the papers' geometry.)
+
+The survey of M is the costly part of a classification; it is computed once
+per model, and :func:`classify.model_of` keeps one model per mechanism
+*object*. :func:`shared_mechanism` maps every mechanism to one object per
+description, so the tests that build the same mechanism (a catalogue entry at
+a named configuration, a scaled copy of a spherical one) share its model and
+survey within a test process. Nothing is lost: a classification is a
+deterministic function of the description (the survey's seed is fixed).
 """
 
 import numpy as np
@@ -10,6 +18,67 @@ from scipy.optimize import least_squares
 from classify import Model
 from manifold import AmbientSpace, ImplicitManifold
 from mechanisms import EndEffector, Joint, Mechanism
+from mechanisms.catalogue import entry
+
+# --------------------------------------------------------------------------- shared mechanisms
+
+#: description -> the first mechanism object seen with it (see :func:`shared_mechanism`)
+_SHARED_MECHANISMS = {}
+
+
+def description(mechanism):
+    """The exact description of a mechanism, as text: name, space, joints, ground and end-effector.
+
+    Joints and end-effector are frozen dataclasses of strings, booleans and
+    tuples of Python floats, whose repr is exact (it tells -0.0 from 0.0).
+
+    Parameters
+    ----------
+    mechanism : Mechanism
+
+    Returns
+    -------
+    str
+    """
+    return repr((mechanism.name, mechanism.space, mechanism.joints, mechanism.ground, mechanism.end_effector))
+
+
+def shared_mechanism(mechanism):
+    """The one mechanism object of this process with `mechanism`'s description.
+
+    Its model (:func:`classify.model_of`), and so the survey of M, is
+    computed once and reused by every test that classifies the same
+    description.
+
+    Parameters
+    ----------
+    mechanism : Mechanism
+
+    Returns
+    -------
+    Mechanism
+        The first object seen with this description (`mechanism` itself if it is the first).
+    """
+    return _SHARED_MECHANISMS.setdefault(description(mechanism), mechanism)
+
+
+def catalogue_mechanism(name, configuration=None, **parameters):
+    """``catalogue.entry(name).mechanism(configuration, **parameters)``, shared (:func:`shared_mechanism`).
+
+    Parameters
+    ----------
+    name : str
+        Catalogue name.
+    configuration : str, optional
+        Named configuration (default: the builder's defaults).
+    **parameters
+        The builder's parameters.
+
+    Returns
+    -------
+    Mechanism
+    """
+    return shared_mechanism(entry(name).mechanism(configuration, **parameters))
 
 
 # --------------------------------------------------------------------------- five-bar

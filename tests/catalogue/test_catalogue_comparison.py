@@ -1,12 +1,17 @@
 """Park–Kim and the derived Gosselin–Angeles classification on the whole catalogue: at every named
 configuration (the papers' singular ones) and at configurations sampled over the assembly branches,
 of every entry with as many inputs as outputs, the two correspond — or differ for a reason of the
-closed list (``classify.comparison.REASONS``), never an unexplained one."""
+closed list (``classify.comparison.REASONS``), never an unexplained one.
+
+Park–Kim's side is classified with the survey of M that ``classify`` itself uses for the mechanism
+(:func:`classify.survey_of`), shared with the other tests through :func:`builders.catalogue_mechanism`.
+"""
 
 import numpy as np
 import pytest
 
-from classify import REASONS, compare, joint_output_model, model_of, sample_configurations
+from builders import catalogue_mechanism
+from classify import REASONS, compare, joint_output_model, model_of, sample_configurations, survey_of
 from mechanisms import end_effector_dimension, home
 from mechanisms.catalogue import entries, entry
 
@@ -30,7 +35,7 @@ def comparable(mechanism):
 
 
 CASES = [(item.name, name) for item in entries() for name in ("default", *item.configurations)
-         if comparable(item.mechanism(None if name == "default" else name)) is not None]
+         if comparable(catalogue_mechanism(item.name, None if name == "default" else name)) is not None]
 
 
 def test_the_catalogue_has_comparable_entries():
@@ -47,10 +52,10 @@ def test_the_classifications_correspond_or_differ_for_a_listed_reason(item_name)
     for case_name, name in CASES:
         if case_name != item_name:
             continue
-        mechanism = item.mechanism(None if name == "default" else name)
+        mechanism = catalogue_mechanism(item_name, None if name == "default" else name)
         model = comparable(mechanism)
         points = np.concatenate([home(mechanism)[None], sample_configurations(model, 2, rng)])
-        for row in compare(model, points, rng=rng).rows:
+        for row in compare(model, points, survey=survey_of(model), rng=rng).rows:
             where = f"{item.name} [{name}] {row.label}: {row.note}"
             assert row.reason in DERIVED_REASONS | {None}, where
             assert row.reason is None or row.reason in REASONS, where

@@ -14,6 +14,7 @@ a classification (≈ 4 s against ≈ 0.2 s).
 import numpy as np
 import pytest
 
+from builders import shared_mechanism
 from classify import classify, model_of, survey
 from mechanisms import Mechanism, MechanismError, home
 from mechanisms.catalogue.five_spu import ENTRIES, cofactors, five_spu, singularity_polynomial
@@ -26,7 +27,9 @@ LEGS = range(1, 6)
 
 
 def classified(mechanism, shared=None):
-    """Classification at the home (the requested pose), seeded."""
+    """Classification at the home (the requested pose), seeded; without `shared`, with the survey that the
+    tests classifying the same mechanism share (:func:`builders.shared_mechanism`)."""
+    mechanism = shared_mechanism(mechanism)
     return classify(mechanism, home(mechanism), survey=shared, rng=np.random.default_rng(0))
 
 

@@ -14,15 +14,10 @@ import pytest
 from scipy.optimize import least_squares
 from scipy.spatial.transform import Rotation
 
-from classify import classify
-from mechanisms import home
+from checks import classified
 from mechanisms.catalogue.gough_stewart import ENTRIES, base_points, gough_stewart, platform_points
 
 ENTRY = ENTRIES[0]
-
-
-def classified(mechanism):
-    return classify(mechanism, home(mechanism), rng=np.random.default_rng(0))
 
 
 def paper_matrices(configuration=None, **overrides):

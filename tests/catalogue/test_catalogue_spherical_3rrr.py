@@ -13,15 +13,10 @@ import pytest
 from scipy.optimize import brentq
 from scipy.spatial.transform import Rotation
 
-from classify import classify
-from mechanisms import home
+from checks import classified
 from mechanisms.catalogue.spherical_3rrr import ENTRIES, spherical_3rrr
 
 ENTRY = ENTRIES[0]
-
-
-def classified(mechanism):
-    return classify(mechanism, home(mechanism), rng=np.random.default_rng(0))
 
 
 def axes(mechanism, kind):

@@ -11,7 +11,8 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-from classify import classify, model_of, survey
+from builders import shared_mechanism
+from classify import classify, model_of, survey_of
 from mechanisms import MechanismError, home
 from mechanisms.catalogue.three_prr import ENTRIES, WORKING_MODES, three_prr, three_prr_at_inputs
 
@@ -23,11 +24,16 @@ ISOTROPIC_PHI = math.pi / 3
 
 @pytest.fixture(scope="module")
 def shared_survey():
-    """The largest ranks on M of the paper's design (one survey: every pose below is on the same M)."""
-    return survey(model_of(three_prr()), np.random.default_rng(0))
+    """The largest ranks on M of the paper's design (one survey: every pose below is on the same M).
+
+    The survey ``classify`` keeps for the default mechanism (``survey(model, numpy.random.default_rng(0))``),
+    shared with the other tests (:func:`builders.shared_mechanism`).
+    """
+    return survey_of(model_of(shared_mechanism(three_prr())))
 
 
 def classified(mechanism, shared_survey=None, **options):
+    mechanism = shared_mechanism(mechanism)
     return classify(mechanism, home(mechanism), survey=shared_survey, rng=np.random.default_rng(0), **options)
 
 

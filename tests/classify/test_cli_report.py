@@ -1,5 +1,7 @@
 """``closedchain report``: the legend, the summary, shared surveys, parallel runs and the G–A outputs."""
 
+import contextlib
+import io
 import json
 from pathlib import Path
 
@@ -19,6 +21,16 @@ def run(arguments, capsys):
     return status, captured.out, captured.err
 
 
+@pytest.fixture(scope="module")
+def slider_crank_json():
+    """``closedchain report slider-crank --format json --jobs 1``: (status, stdout), run once for the tests
+    that read it."""
+    out = io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(io.StringIO()):
+        status = main(["report", "slider-crank", "--format", "json", "--jobs", "1"])
+    return status, out.getvalue()
+
+
 def test_report_file_starts_with_a_legend_and_the_terminal_gets_a_summary(tmp_path, capsys):
     output = tmp_path / "report.txt"
     status, out, err = run(["report", "slider-crank", "--output", str(output), "--jobs", "1"], capsys)
@@ -36,9 +48,9 @@ def test_report_file_starts_with_a_legend_and_the_terminal_gets_a_summary(tmp_pa
     assert "== slider-crank [fig3b_actuator]" in text and "theta = 0.5236" in text
 
 
-def test_the_slider_crank_is_compared_with_its_slide_as_gosselin_angeles_do(capsys):
+def test_the_slider_crank_is_compared_with_its_slide_as_gosselin_angeles_do(slider_crank_json, capsys):
     """G–A 1990 eq. 9: input θ, output the slide x; driven by the slide (Park & Kim Fig. 3d), output θ."""
-    status, out, _ = run(["report", "slider-crank", "--format", "json", "--jobs", "1"], capsys)
+    status, out = slider_crank_json
     assert status == 0
     rows = {row["configuration_name"]: row for row in json.loads(out)}
     assert all(row["comparison"]["reason"] != "unequal_dimensions" for row in rows.values())
@@ -83,9 +95,9 @@ def test_a_parallel_report_equals_the_serial_one(capsys):
     assert status == 0 and parallel == serial
 
 
-def test_a_shared_survey_classifies_as_one_survey_per_configuration(capsys):
+def test_a_shared_survey_classifies_as_one_survey_per_configuration(slider_crank_json, capsys):
     """Configurations of one design share a survey; each alone (`classify`) reaches the same verdict."""
-    status, out, _ = run(["report", "slider-crank", "--format", "json", "--jobs", "1"], capsys)
+    status, out = slider_crank_json
     assert status == 0
     for row in json.loads(out):
         arguments = ["classify", "slider-crank", "--format", "json"]

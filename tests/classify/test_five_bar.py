@@ -6,7 +6,7 @@ at the middle joint J3."""
 import numpy as np
 import pytest
 
-from builders import five_bar, five_bar_eq8, five_bar_positions
+from builders import five_bar, five_bar_eq8, five_bar_positions, shared_mechanism
 from classify import classify
 from mechanisms import home
 
@@ -32,7 +32,9 @@ EXPECTED = {
 
 
 def classified(points, **options):
-    mechanism = five_bar(points, **options)
+    """The classification at home of the five-bar at `points` (its model and survey shared by the tests
+    that build the same five-bar, :func:`builders.shared_mechanism`)."""
+    mechanism = shared_mechanism(five_bar(points, **options))
     return classify(mechanism, home(mechanism), rng=np.random.default_rng(0))
 
 

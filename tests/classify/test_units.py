@@ -5,6 +5,10 @@ every named configuration in one of these units (:func:`mechanisms.scale_lengths
 over the configurations), is classified exactly as drawn in the catalogue's unit: same kinds, degeneracy,
 dof, ranks, expected ranks, idle freedoms and architecture flag, and the same relative margins (every
 decision is taken on dimensionless maps). Actuator weights do not decide either.
+
+Mechanisms are classified through :func:`builders.shared_mechanism`: the catalogue's unit is surveyed
+once per description, not once per factor (and a spherical mechanism, which has no length, is its own
+scaled copy).
 """
 
 import dataclasses
@@ -13,6 +17,7 @@ import itertools
 import numpy as np
 import pytest
 
+from builders import catalogue_mechanism, shared_mechanism
 from classify import classify
 from mechanisms import Mechanism, catalogue, home, scale_lengths
 
@@ -25,6 +30,7 @@ SCALED = ([(item.name, None, factor) for item in catalogue.entries() for factor 
 
 
 def classified(mechanism):
+    mechanism = shared_mechanism(mechanism)
     return classify(mechanism, home(mechanism), rng=np.random.default_rng(0))
 
 
@@ -52,7 +58,7 @@ def assert_same_verdict(first, second):
 
 @pytest.mark.parametrize("name, configuration, factor", SCALED)
 def test_a_change_of_length_unit_changes_no_verdict(name, configuration, factor):
-    mechanism = catalogue.entry(name).mechanism(configuration)
+    mechanism = catalogue_mechanism(name, configuration)
     assert_same_verdict(classified(mechanism), classified(scale_lengths(mechanism, factor)))
 
 
@@ -67,7 +73,7 @@ def test_scaling_multiplies_every_length():
 @pytest.mark.parametrize("weight", [1e-12, 1e-6, 1e6, 1e12])
 def test_actuator_weights_change_no_verdict(weight):
     """E's weights scale the manipulability values, never a rank: G = Tᵀ E T has the kernel of Dπ T."""
-    mechanism = catalogue.entry("five-bar").mechanism("fig6a_distal_aligned")
+    mechanism = catalogue_mechanism("five-bar", "fig6a_distal_aligned")
     weighted = Mechanism(mechanism.name, mechanism.space,
                          [dataclasses.replace(joint, weight=weight) if joint.actuated else joint
                           for joint in mechanism.joints], mechanism.ground, mechanism.end_effector)

@@ -5,7 +5,9 @@ singularity of Gosselin & Angeles 1990 eq. 87) keeps its verdict under 20 random
 representation each: the tangent basis rotated (T → TQ, Q orthogonal), the joints listed in another
 order (another spanning tree and chord set), axis signs flipped, the base frame moved by a rigid
 motion and, for mechanisms of one-coordinate joints, another home on the same M. The survey (largest
-ranks on M, representation-invariant integers) is shared; everything else is recomputed.
+ranks on M, representation-invariant integers) is shared: the one every classification of the catalogue
+mechanism uses (:func:`classify.survey_of`, shared with the other tests through
+:func:`builders.catalogue_mechanism`); everything else is recomputed.
 """
 
 import zlib
@@ -16,9 +18,10 @@ from scipy.spatial.transform import Rotation
 from scipy.stats import ortho_group
 
 import classify.classification as classification
-from classify import classify, model_of, survey
+from builders import catalogue_mechanism
+from classify import classify, model_of, survey_of
 from manifold import ProjectionError, project
-from mechanisms import Mechanism, catalogue, closes, configuration_space, flip_axis, home, kinematics_of, move_base
+from mechanisms import Mechanism, closes, configuration_space, flip_axis, home, kinematics_of, move_base
 from mechanisms import rehome
 
 REPRESENTATIONS = 20
@@ -123,8 +126,8 @@ def rotated_bases(monkeypatch):
 
 @pytest.mark.parametrize("name, configuration, degeneracy", CASES)
 def test_the_verdict_survives_every_change_of_representation(name, configuration, degeneracy, rotated_bases):
-    mechanism = catalogue.entry(name).mechanism(configuration)
-    shared = survey(model_of(mechanism), np.random.default_rng(0))
+    mechanism = catalogue_mechanism(name, configuration)
+    shared = survey_of(model_of(mechanism))  # = survey(model, numpy.random.default_rng(0))
     rng = np.random.default_rng(zlib.crc32(f"{name}/{configuration}".encode()))
     reference = classify(mechanism, home(mechanism), survey=shared, rng=np.random.default_rng(0))
     assert reference.degeneracy == degeneracy
