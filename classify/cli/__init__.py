@@ -10,6 +10,8 @@
   puts Park–Kim and Gosselin–Angeles side by side;
 * ``closedchain map FILE|NAME --grid …`` (:mod:`classify.cli.map_command`)
   classifies every point of a grid of joint coordinates;
+* ``closedchain sweep NAME --param K=a:b:n …`` (:mod:`classify.cli.sweep_command`)
+  sweeps a catalogue parameter grid, one Dask task per chunk of designs;
 * ``closedchain catalog [NAME]`` (:mod:`classify.cli.catalog_command`) lists the
   catalogue, describes an entry or writes it as a mechanism file.
 
@@ -31,7 +33,7 @@ import traceback
 from mechanisms import ConfigurationError, MechanismError
 
 from ..text import printable
-from . import catalog_command, classify_command, compare_command, map_command, report_command
+from . import catalog_command, classify_command, compare_command, map_command, report_command, sweep_command
 from ._common import InputError, Parser
 from .report_command import report_table
 
@@ -44,6 +46,7 @@ COMMANDS = {
     "compare": compare_command,
     "catalog": catalog_command,
     "map": map_command,
+    "sweep": sweep_command,
 }
 
 

@@ -46,7 +46,7 @@ def entry_options(parser):
                         help="a catalogue parameter (repeatable); see `closedchain catalog NAME`")
 
 
-def _seed(text):
+def seed_type(text):
     """``--seed``: an integer from 0 to :data:`SEED_LIMIT`."""
     try:
         value = int(text)
@@ -71,7 +71,7 @@ def _length_scale(text):
 
 def common_options(parser):
     """``--seed`` and ``--length-scale``."""
-    parser.add_argument("--seed", type=_seed, default=0,
+    parser.add_argument("--seed", type=seed_type, default=0,
                         help="seed of the random sampling, an integer ≥ 0 (default 0)")
     parser.add_argument("--length-scale", type=_length_scale, default=None,
                         help="length scale of the SE(2)/SE(3) end-effector metric (within a factor 10⁶ of the "
