@@ -14,7 +14,7 @@ from pathlib import Path
 
 from mechanisms import MechanismError, catalogue
 
-from ..report import KINDS, printable
+from ..text import printable
 from ._common import COUNT_LIMIT, InputError, seed_type, dumps, finite, write_output
 
 __all__ = ["add_parser", "run", "SCHEDULER_TIMEOUT", "WORKER_LIMIT", "OUTPUT_SUFFIXES", "read_table"]
@@ -332,6 +332,8 @@ def _grid_phrase(grid):
 
 
 def _summary_text(result, out_path):
+    from ..report import KINDS  # here: classify.report imports NumPy
+
     summary = result.summary()
     lines = [f"{printable(result.mechanism)}: {summary['designs']} design{'s' if summary['designs'] != 1 else ''} "
              f"({_grid_phrase(result.grid)}), {result.samples} configurations sampled per design, seed {result.seed}"]
@@ -353,6 +355,8 @@ def _summary_text(result, out_path):
 
 
 def _table_lines(result):
+    from ..report import KINDS  # here: classify.report imports NumPy
+
     names = result.grid.order
     header = (["design"] + [printable(name) for name in names] + ["samples"]
               + [f"{kind.replace('_', '-')}" for kind in (*KINDS, "regular")]
