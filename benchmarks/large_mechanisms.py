@@ -40,8 +40,9 @@ import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
-if str(ROOT) not in sys.path:
-    sys.path.insert(0, str(ROOT))
+for _folder in (ROOT, ROOT / "tests"):  # the package, and the test suite's builders
+    if str(_folder) not in sys.path:
+        sys.path.insert(0, str(_folder))
 
 #: the sizes k measured by default
 SIZES = (10, 20, 50, 100, 200, 400, 1000)
@@ -50,29 +51,14 @@ TIME_LIMIT = 600
 
 
 def ladder(joint_count):
-    """The ladder with exactly `joint_count` joints (see the module's docstring), at least 4."""
-    import numpy as np
-
-    from mechanisms import EndEffector, Joint, Mechanism
+    """The ladder with exactly `joint_count` joints, at least 4: ``joint_count // 4`` four-bar loops and the
+    rest as a tail (the test suite's builder, ``tests/builders.py``)."""
+    from builders import ladder as ladder_of
 
     loops, tail = divmod(int(joint_count), 4)
     if loops < 1:
         raise ValueError(f"Expected at least 4 joints, got {joint_count}")
-    joints = []
-    for index in range(1, loops + 1):
-        below, above = ("ground" if index == 1 else f"rung{index - 1}"), f"rung{index}"
-        tilt = 0.1 + 0.3 * np.sin(index)
-        joints += [Joint(f"A{index}", "R", (below, f"left{index}"), point=(0.0, index - 1.0), actuated=True),
-                   Joint(f"B{index}", "R", (f"left{index}", above), point=(tilt, float(index))),
-                   Joint(f"C{index}", "R", (below, f"right{index}"), point=(1.0, index - 1.0)),
-                   Joint(f"D{index}", "R", (f"right{index}", above), point=(1.0 + tilt, float(index)))]
-    link = f"rung{loops}"
-    for index in range(1, tail + 1):
-        joints.append(Joint(f"T{index}", "R", (link, f"tail{index}"), point=(0.5, loops + index - 1.0),
-                            actuated=True))
-        link = f"tail{index}"
-    return Mechanism(f"ladder of {joint_count} joints", "planar", joints,
-                     end_effector=EndEffector(link, point=(0.5, float(loops + tail))))
+    return ladder_of(loops, tail)
 
 
 def _peak_rss():

@@ -231,3 +231,32 @@ def spatial_mix(output="pose"):
         Joint("E", "P", ("ground", "e"), axis=(1, 1, 0), actuated=True),
         Joint("F", "S", ("e", "c"), point=(2, 1, 0)),
     ], end_effector=EndEffector("b", None if output == "orientation" else (0.5, 0.5, 0.5), output))
+
+
+# --------------------------------------------------------------------------- large mechanisms
+
+def ladder(loops, tail=0):
+    """A planar ladder of `loops` parallelogram four-bar loops stacked on the ground (4 joints each).
+
+    Loop i joins rung i − 1 (the ground for i = 1) to rung i by two parallel
+    links of direction (tᵢ, 1), tᵢ = 0.1 + 0.3 sin i, so that the rungs'
+    motions are not all parallel; the left joint of every loop is actuated.
+    Every loop touches its own four joints only: DΦ has one 3×4 block per
+    loop. `tail` actuated joints hang in a chain from the top rung, and the
+    end-effector is a point of the last link.
+    """
+    joints = []
+    for index in range(1, loops + 1):
+        below, above = ("ground" if index == 1 else f"rung{index - 1}"), f"rung{index}"
+        tilt = 0.1 + 0.3 * np.sin(index)
+        joints += [Joint(f"A{index}", "R", (below, f"left{index}"), point=(0.0, index - 1.0), actuated=True),
+                   Joint(f"B{index}", "R", (f"left{index}", above), point=(tilt, float(index))),
+                   Joint(f"C{index}", "R", (below, f"right{index}"), point=(1.0, index - 1.0)),
+                   Joint(f"D{index}", "R", (f"right{index}", above), point=(1.0 + tilt, float(index)))]
+    link = f"rung{loops}"
+    for index in range(1, tail + 1):
+        joints.append(Joint(f"T{index}", "R", (link, f"tail{index}"), point=(0.5, loops + index - 1.0),
+                            actuated=True))
+        link = f"tail{index}"
+    name = f"ladder of {loops}" if not tail else f"ladder of {loops} loops and {tail} tail joints"
+    return Mechanism(name, "planar", joints, end_effector=EndEffector(link, point=(0.5, float(loops + tail))))

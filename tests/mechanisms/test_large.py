@@ -14,40 +14,19 @@ import tracemalloc
 import numpy as np
 import pytest
 
-from builders import bennett, five_bar, five_bar_positions, rsur, spatial_mix, spherical_four_bar
+from builders import bennett, five_bar, five_bar_positions, ladder, rsur, spatial_mix, spherical_four_bar
 from manifold import AmbientSpace, ImplicitManifold, ProjectionError, numerical_rank, project, tangent_basis
 from manifold import implicit
 from manifold.implicit import (
     JacobianPattern, constraint_curvature, hessian_form, jacobian_rank, normal_basis, sparse_tangent_basis,
 )
 from mechanisms import (
-    EndEffector, Joint, Mechanism, MechanismError, configuration_space, constraint, constraint_hessian,
+    Joint, Mechanism, MechanismError, configuration_space, constraint, constraint_hessian,
     constraint_jacobian, home, kinematics_of,
 )
 from mechanisms.catalogue.slider_crank import slider_crank
 from mechanisms.kinematics import constraint_hessian_form, constraint_jacobian_entries, constraint_pattern
 from mechanisms.mechanism import DENSE_MEMORY_LIMIT, dense_memory_estimate
-
-
-def ladder(loops):
-    """A planar ladder of `loops` parallelogram four-bar loops stacked on the ground (4 joints each).
-
-    Loop i joins rung i − 1 (the ground for i = 1) to rung i by two parallel
-    links of direction (tᵢ, 1), tᵢ = 0.1 + 0.3 sin i, so that the rungs'
-    motions are not all parallel; the left joint of every loop is actuated
-    and the end-effector is a point of the top rung. Every loop touches its
-    own four joints only: DΦ has one 3×4 block per loop.
-    """
-    joints = []
-    for index in range(1, loops + 1):
-        below, above = ("ground" if index == 1 else f"rung{index - 1}"), f"rung{index}"
-        tilt = 0.1 + 0.3 * np.sin(index)
-        joints += [Joint(f"A{index}", "R", (below, f"left{index}"), point=(0.0, index - 1.0), actuated=True),
-                   Joint(f"B{index}", "R", (f"left{index}", above), point=(tilt, float(index))),
-                   Joint(f"C{index}", "R", (below, f"right{index}"), point=(1.0, index - 1.0)),
-                   Joint(f"D{index}", "R", (f"right{index}", above), point=(1.0 + tilt, float(index)))]
-    return Mechanism(f"ladder of {loops}", "planar", joints,
-                     end_effector=EndEffector(f"rung{loops}", point=(0.5, float(loops))))
 
 
 def pendulums(count):
