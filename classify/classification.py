@@ -54,8 +54,9 @@ def classify(mechanism, point, survey=None, rng=None, rtol=DEFAULT_RTOL, length_
         (:func:`classify.survey.survey_of`). Either is raised to the ranks
         at `point` where they exceed it (:meth:`Survey.including`).
     rng : numpy.random.Generator, optional
-        For local sampling, the survey and the second-order test; default
-        ``numpy.random.default_rng(0)`` (deterministic).
+        For the sampling near `point` (local rank, where needed) and the
+        second-order test; default ``numpy.random.default_rng(0)``
+        (deterministic). The survey has its own seed.
     rtol : float
         Relative cut of every rank decision (:func:`manifold.numerical_rank`).
     length_scale : float, optional
@@ -224,4 +225,3 @@ def _including_point(survey, constraint_rank, actuator_decision, end_effector_de
         return survey.including(constraint_rank, actuator_decision.rank)
     return survey.including(constraint_rank, actuator_decision.rank, end_effector_decision.rank,
                             joint_decision().rank)
-
