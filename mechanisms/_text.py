@@ -338,18 +338,32 @@ def _parse_yaml(text, source):
         raise MechanismError(_one_line(f"{source}: cannot parse YAML: {_reason(error)}")) from None
 
 
-class _DuplicateKey(Exception):
-    pass
+class DuplicateKey(Exception):
+    """A JSON object with the same key twice (raised by :data:`JSON_DECODER`)."""
 
 
-class _TooManyDigits(Exception):
-    pass
+class TooManyDigits(Exception):
+    """A JSON integer of more than :data:`DIGITS_LIMIT` digits (raised by :data:`JSON_DECODER`)."""
 
 
 def _json_integer(text):
     if len(text.lstrip("-")) > DIGITS_LIMIT:
-        raise _TooManyDigits(len(text.lstrip("-")))
+        raise TooManyDigits(len(text.lstrip("-")))
     return int(text)
+
+
+def _json_object(pairs):
+    data = {}
+    for key, value in pairs:
+        if key in data:
+            raise DuplicateKey(key)
+        data[key] = value
+    return data
+
+
+#: decodes JSON refusing duplicate keys (:class:`DuplicateKey`) and integers of more than
+#: :data:`DIGITS_LIMIT` digits (:class:`TooManyDigits`); ``raw_decode`` reads one value of a longer text
+JSON_DECODER = json.JSONDecoder(object_pairs_hook=_json_object, parse_int=_json_integer)
 
 
 def _nesting_depth_exceeds(data, limit):
@@ -362,15 +376,6 @@ def _nesting_depth_exceeds(data, limit):
                 return True
             pending.extend((item, depth + 1) for item in (value.values() if isinstance(value, dict) else value))
     return False
-
-
-def _json_object(pairs):
-    data = {}
-    for key, value in pairs:
-        if key in data:
-            raise _DuplicateKey(key)
-        data[key] = value
-    return data
 
 
 def parse_json(text, source):
@@ -405,8 +410,8 @@ def parse_json(text, source):
 
 def _parse_json(text, source):
     try:
-        return json.loads(text, object_pairs_hook=_json_object, parse_int=_json_integer)
-    except _TooManyDigits as error:
+        return JSON_DECODER.decode(text)
+    except TooManyDigits as error:
         raise MechanismError(f"{source}: cannot parse JSON: an integer of {error.args[0]} digits is out of "
                              f"range (at most {DIGITS_LIMIT})") from None
     except RecursionError:
@@ -415,7 +420,7 @@ def _parse_json(text, source):
     except json.JSONDecodeError as error:
         raise MechanismError(_one_line(f"{source}: cannot parse JSON: {error.msg} at line "
                                        f"{error.lineno}, column {error.colno}")) from None
-    except _DuplicateKey as error:
+    except DuplicateKey as error:
         raise MechanismError(f"{source}: cannot parse JSON: found duplicate key "
                              f"{_describe(error.args[0])}") from None
     except (ValueError, RecursionError) as error:

@@ -42,6 +42,7 @@ import stat
 import numpy as np
 
 from mechanisms import MechanismError
+from mechanisms._text import JSON_DECODER, DuplicateKey, TooManyDigits
 from mechanisms.io import DIGITS_LIMIT, check_displacement, read_text_file
 from mechanisms.joints import COORDINATE_LIMIT
 
@@ -100,31 +101,6 @@ def read_batch(path, mechanism, base):
     return matrix
 
 
-class _DuplicateKey(Exception):
-    pass
-
-
-class _LongInteger(Exception):
-    pass
-
-
-def _unique_object(pairs):
-    result = {}
-    for key, value in pairs:
-        if key in result:
-            raise _DuplicateKey(key)
-        result[key] = value
-    return result
-
-
-def _bounded_integer(text):
-    if len(text.lstrip("-")) > DIGITS_LIMIT:
-        raise _LongInteger(len(text.lstrip("-")))
-    return int(text)
-
-
-#: decodes one JSON value: duplicate keys and integers of more than DIGITS_LIMIT digits refused
-_DECODER = json.JSONDecoder(object_pairs_hook=_unique_object, parse_int=_bounded_integer)
 _WHITESPACE = " \t\n\r"
 
 
@@ -144,12 +120,12 @@ def _position(text, index):
 def _decode(text, index, where):
     """(value, end) of the JSON value starting at `index`; InputError naming `where` and the position."""
     try:
-        return _DECODER.raw_decode(text, index)
+        return JSON_DECODER.raw_decode(text, index)
     except json.JSONDecodeError as error:
         raise InputError(f"{where}: cannot parse JSON: {error.msg} at {_position(text, error.pos)}") from None
-    except _DuplicateKey as error:
+    except DuplicateKey as error:
         raise InputError(f"{where}: cannot parse JSON: duplicate key {shown(error.args[0])}") from None
-    except _LongInteger as error:
+    except TooManyDigits as error:
         raise InputError(f"{where}: cannot parse JSON: an integer of {error.args[0]} digits "
                          f"(at most {DIGITS_LIMIT})") from None
     except (RecursionError, ValueError) as error:
