@@ -48,7 +48,7 @@ from mechanisms.joints import COORDINATE_LIMIT
 
 from ..text import printable
 from ._common import InputError
-from ._names import coordinate_column, coordinate_columns, known, shown
+from ._names import coordinate_column, coordinate_columns, coordinate_number, known, shown
 
 __all__ = ["BATCH_SUFFIXES", "BATCH_ROW_LIMIT", "BATCH_FILE_LIMIT", "read_batch", "model_survey"]
 
@@ -224,21 +224,6 @@ def _read_json_lines(text, mechanism, base, where):
     return rows.matrix()
 
 
-def _number(cell, where):
-    """A finite number within the coordinate limit from a CSV cell."""
-    text = cell.strip()
-    try:
-        value = float(text)
-    except ValueError:
-        raise InputError(f"{where}: expected a number, got {shown(cell) if text else 'an empty cell'}") from None
-    if not math.isfinite(value):
-        raise InputError(f"{where}: expected a finite number, got {shown(text)}")
-    if abs(value) > COORDINATE_LIMIT:
-        raise InputError(f"{where}: {value:g} is out of range (displacements are at most {COORDINATE_LIMIT:g} in "
-                         f"absolute value)")
-    return value
-
-
 def _read_csv(text, mechanism, base, where):
     """A header of coordinate names, then one row of numbers per configuration."""
     reader = csv.reader(io.StringIO(text, newline=""))
@@ -266,7 +251,7 @@ def _read_csv(text, mechanism, base, where):
                 raise InputError(f"{here}: expected {len(names)} values (one per header column), got {len(record)}")
             vector = base.copy()
             for name, column, cell in zip(names, columns, record):
-                vector[column] = _number(cell, f"{here}: column {shown(name)}")
+                vector[column] = coordinate_number(cell, f"{here}: column {shown(name)}", empty="an empty cell")
             rows.append(vector)
     except csv.Error as error:
         raise InputError(f"{where}: line {reader.line_num}: cannot parse CSV: {printable(str(error))}") from None

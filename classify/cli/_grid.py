@@ -13,10 +13,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from mechanisms.joints import COORDINATE_LIMIT
 
 from ._common import InputError
-from ._names import coordinate_column, shown
+from ._names import coordinate_column, coordinate_number, shown
 
 __all__ = ["GRID_POINT_LIMIT", "Grid", "parse_grid"]
 
@@ -66,20 +65,6 @@ class Grid:
                 for name, start, stop, count in zip(self.names, self.starts, self.stops, self.counts)}
 
 
-def _grid_number(text, what, where):
-    try:
-        value = float(text)
-    except ValueError:
-        raise InputError(f"{where}: {what}: expected a number, got {shown(text) if text.strip() else 'nothing'}") \
-            from None
-    if not math.isfinite(value):
-        raise InputError(f"{where}: {what}: expected a finite number, got {shown(text)}")
-    if abs(value) > COORDINATE_LIMIT:
-        raise InputError(f"{where}: {what}: {value:g} is out of range (at most {COORDINATE_LIMIT:g} in absolute "
-                         f"value)")
-    return value
-
-
 def parse_grid(texts, mechanism):
     """The :class:`Grid` of ``--grid`` texts ``NAME=a:b:n``.
 
@@ -103,8 +88,8 @@ def parse_grid(texts, mechanism):
         fields = spec.split(":")
         if len(fields) != 3:
             raise InputError(f"{where}: expected NAME=a:b:n with three fields after '=', got {len(fields)}")
-        start = _grid_number(fields[0], "a", where)
-        stop = _grid_number(fields[1], "b", where)
+        start = coordinate_number(fields[0], f"{where}: a")
+        stop = coordinate_number(fields[1], f"{where}: b")
         count_text = fields[2].strip()
         if not count_text.isdecimal() or len(count_text) > 12 or int(count_text) < 1:
             raise InputError(f"{where}: n: expected an integer ≥ 1, got "

@@ -10,12 +10,14 @@ escaped and cut (:func:`shown`), so that a refusal stays one line.
 
 from __future__ import annotations
 
-from mechanisms.joints import joint_coordinate_names
+import math
+
+from mechanisms.joints import COORDINATE_LIMIT, joint_coordinate_names
 
 from ..text import printable
 from ._common import InputError
 
-__all__ = ["coordinate_columns", "coordinate_column", "shown", "known"]
+__all__ = ["coordinate_columns", "coordinate_column", "coordinate_number", "shown", "known"]
 
 
 def coordinate_columns(mechanism):
@@ -77,3 +79,31 @@ def known(names, limit=20):
     names = list(names)
     listed = ", ".join(names[:limit]) + (f", … ({len(names)} in all)" if len(names) > limit else "")
     return printable(listed)
+
+
+def coordinate_number(text, where, empty="nothing"):
+    """A finite number of at most :data:`~mechanisms.joints.COORDINATE_LIMIT` in absolute value, from text.
+
+    Parameters
+    ----------
+    text : str
+        A CSV cell or a bound of ``--grid``.
+    where : str
+        What the text is, first in every message.
+    empty : str
+        How an empty text is named in the message.
+
+    Raises
+    ------
+    InputError
+        One line: not a number, not finite, or out of range.
+    """
+    try:
+        value = float(text)
+    except ValueError:
+        raise InputError(f"{where}: expected a number, got {shown(text) if text.strip() else empty}") from None
+    if not math.isfinite(value):
+        raise InputError(f"{where}: expected a finite number, got {shown(text.strip())}")
+    if abs(value) > COORDINATE_LIMIT:
+        raise InputError(f"{where}: {value:g} is out of range (at most {COORDINATE_LIMIT:g} in absolute value)")
+    return value
