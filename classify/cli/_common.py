@@ -69,6 +69,13 @@ def _length_scale(text):
     return value
 
 
+def survey_option(parser):
+    """``--survey FILE``: a survey cache file (:mod:`classify.survey_cache`), read or written by the command."""
+    parser.add_argument("--survey", default=None, metavar="FILE",
+                        help="survey cache file: read when it exists and was made for this mechanism, else "
+                             "computed and written")
+
+
 def common_options(parser):
     """``--seed`` and ``--length-scale``."""
     parser.add_argument("--seed", type=seed_type, default=0,

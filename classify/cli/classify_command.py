@@ -25,7 +25,7 @@ from ..progress import show_progress
 from ..text import printable
 from ._common import (
     InputError, check_length_scale, common_options, displacements, dumps, entry_options, entry_values, is_entry,
-    source,
+    source, survey_option,
 )
 
 __all__ = ["add_parser", "run", "describe_source"]
@@ -80,9 +80,7 @@ def add_parser(commands):
     parser.add_argument("--branch", type=int, default=None, metavar="N",
                         help="with --assemble: the N-th assembly at those inputs, by distance from home "
                              "(default: the one reached from home)")
-    parser.add_argument("--survey", default=None, metavar="FILE",
-                        help="survey cache file: read when it exists and was made for this mechanism, else "
-                             "computed and written")
+    survey_option(parser)
     parser.add_argument("--out", default=None, metavar="FILE",
                         help="with --batch: write the results to FILE (.jsonl, .json, .csv or .npz) and print a "
                              "summary")

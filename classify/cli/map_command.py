@@ -66,7 +66,7 @@ from __future__ import annotations
 
 from ..progress import progress_bar, show_progress
 from ..text import printable
-from ._common import InputError, check_length_scale, common_options, entry_options, source
+from ._common import InputError, check_length_scale, common_options, entry_options, source, survey_option
 
 __all__ = ["add_parser", "run", "held_columns", "assemble_grid", "grid_neighbours", "PICTURE"]
 
@@ -103,9 +103,7 @@ def add_parser(commands):
     parser.add_argument("--project", action="store_true",
                         help="project each grid point's configuration onto the C-space (moves every coordinate) "
                              "instead of holding the grid coordinates and solving the loops for the others")
-    parser.add_argument("--survey", default=None, metavar="FILE",
-                        help="survey cache file: read when it exists and was made for this mechanism, else "
-                             "computed and written")
+    survey_option(parser)
     parser.add_argument("--out", default=None, metavar="FILE",
                         help="write the map to FILE (.npz, .csv, .json or .jsonl) and print a summary")
     parser.add_argument("--format", choices=("json", "text"), default="text",
