@@ -20,16 +20,18 @@ At a C-space singularity, G and J are computed on ker DΦ(p) and flagged.
 
 from __future__ import annotations
 
+from functools import cached_property
+
 import numpy as np
 
 from manifold import DEFAULT_RTOL, local_rank, numerical_rank, scaled_jacobian, tangent_basis
 from mechanisms import CLOSURE_TOLERANCE, ConfigurationError, Mechanism
 
-from .metrics import manipulability, unit_rows
+from .metrics import manipulability
 from .model import model_of
 from .report import KindResult, Report
 from .second_order import idle_slice, second_order_test
-from .survey import decision_blocks, freedom_rows, stacked, survey_of
+from .survey import decision_blocks, freedom_rows, stacked, survey_of, unit_actuator_rows
 
 __all__ = ["classify"]
 
@@ -95,13 +97,13 @@ def classify(mechanism, point, survey=None, rng=None, rtol=DEFAULT_RTOL, length_
     survey = survey_of(model, rtol) if survey is None else survey
     nearby = _Neighbourhood(manifold, point, rng, rtol)
     near_rank = (constraint_decision.rank if constraint_decision.rank >= survey.constraint_rank
-                 else nearby.rank)
+                 else nearby.local.rank)
     dof = k - near_rank
     cspace_singular = constraint_decision.rank < near_rank
     cspace_extra = {}
     if cspace_singular:
         cspace_extra = {"kernel_dimension": int(basis.shape[1]), "tangent_cone_dimension": int(dof),
-                        "tangent_cone_span": _secant_span(manifold, point, nearby.neighbours)}
+                        "tangent_cone_span": _secant_span(manifold, point, nearby.local.neighbours)}
         notes.append("C-space singularity: actuator and end-effector ranks are computed on ker DΦ(p), "
                      "which is larger than the tangent spaces of M nearby")
     lost = (scales[:, None] * _kernel_beyond(scaled_jacobian(manifold, point), constraint_decision.rank, near_rank)
@@ -146,11 +148,11 @@ def classify(mechanism, point, survey=None, rng=None, rtol=DEFAULT_RTOL, length_
     if actuator_singular and cspace_singular:
         notes.append("the second-order test is not run at a C-space singularity: degeneracy undetermined")
     if actuator_singular and not cspace_singular:
-        unit_actuators = unit_rows(model.actuators, scales)
+        unit_actuators = unit_actuator_rows(model)[0]
         tested, tested_basis = manifold, basis
         if idle:
-            tested, _ = idle_slice(manifold, point, basis, nearby.neighbours, lambda q: freedom_rows(model, q), idle,
-                                   rtol=rtol)
+            tested, _ = idle_slice(manifold, point, basis, nearby.local.neighbours, lambda q: freedom_rows(model, q),
+                                   idle, rtol=rtol)
             if tested is None:
                 notes.append("idle freedoms: no neighbour on M to find their directions; "
                              "the second-order test is not run")
@@ -198,22 +200,12 @@ class _Neighbourhood:
     first use only: at a point where DΦ has the survey's largest rank no neighbour is needed."""
 
     def __init__(self, manifold, point, rng, rtol):
-        self._arguments = (manifold, point, rng)
-        self._rtol = rtol
-        self._found = None
+        self._arguments = (manifold, point, rng, rtol)
 
-    def _local(self):
-        if self._found is None:
-            self._found = local_rank(*self._arguments, rtol=self._rtol)
-        return self._found
-
-    @property
-    def rank(self):
-        return self._local().rank
-
-    @property
-    def neighbours(self):
-        return self._local().neighbours
+    @cached_property
+    def local(self):
+        manifold, point, rng, rtol = self._arguments
+        return local_rank(manifold, point, rng, rtol=rtol)
 
 
 def _including_point(survey, constraint_rank, actuator_decision, end_effector_decision, joint_decision):
