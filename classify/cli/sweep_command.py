@@ -14,6 +14,7 @@ from pathlib import Path
 
 from mechanisms import MechanismError, catalogue
 
+from ..progress import progress_bar
 from ..text import printable
 from ._common import COUNT_LIMIT, InputError, seed_type, dumps, finite, write_output
 
@@ -177,22 +178,6 @@ def _client(arguments):
 
         with local_cluster(workers) as cluster, Client(cluster, set_as_default=False) as client:
             yield client, f"on a local cluster of {workers} worker process{'es' if workers > 1 else ''}"
-
-
-class _NoBar:
-    def update(self, count):
-        pass
-
-    def close(self):
-        pass
-
-
-def _bar(total):
-    """A tqdm bar over the designs on stderr when it is a terminal."""
-    if not sys.stderr.isatty():
-        return _NoBar()
-    from tqdm import tqdm
-    return tqdm(total=total, desc="designs", unit="design", file=sys.stderr, leave=False)
 
 
 # ----------------------------------------------------------------------------- outputs
@@ -405,7 +390,7 @@ def run(arguments, out):
     with _client(arguments) as (client, where):
         print(f"sweeping {len(grid)} design{'s' if len(grid) != 1 else ''} of {printable(entry.name)} "
               f"({arguments.samples} configurations each) {where}", file=sys.stderr)
-        bar = _bar(len(grid))
+        bar = progress_bar(len(grid), "designs", unit="design")
         try:
             result = sweep(entry, grid, arguments.samples, arguments.seed, client=client, chunk=arguments.chunk,
                            progress=bar.update)
