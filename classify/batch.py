@@ -345,8 +345,7 @@ def _kernel_bases(matrices, rank):
 
 def _empty_columns(model, count):
     """Columns for `count` configurations, filled with 'undefined' (-1, NaN, False)."""
-    dof = model.manifold.ambient.dim
-    proper_count = min(model.end_effector_dimension, dof)
+    proper_count = min(model.end_effector_dimension, model.manifold.ambient.dim)  # at most min(dim N, m), m ≤ k
     return {
         "singular": np.zeros((count, len(KINDS)), dtype=bool),
         "dof": np.full(count, -1, dtype=int),
