@@ -3,19 +3,24 @@ PYTHON ?= python3
 VENV := .venv
 BIN := $(VENV)/bin
 
-.PHONY: demo test bench clean
+.PHONY: demo test docs bench clean
 
 $(BIN)/closedchain: pyproject.toml
 	$(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip
-	$(BIN)/python -m pip install --quiet -e '.[test]'
+	$(BIN)/python -m pip install --quiet -e '.[test,docs]'
 	touch $@
 
 demo: $(BIN)/closedchain
 	$(BIN)/closedchain report --output report.txt
 
-test: $(BIN)/closedchain
+# the docs first (warnings are errors, so they cannot rot), then the suite, whose summary closes the output
+test: docs
 	$(BIN)/python -m pytest -n auto
+
+docs: $(BIN)/closedchain
+	$(BIN)/python -m sphinx -W -q -b html docs docs/_build/html
+	$(BIN)/python -m sphinx -W -q -b doctest docs docs/_build/doctest
 
 bench: $(BIN)/closedchain
 	$(BIN)/python benchmarks/speed.py
@@ -23,4 +28,4 @@ bench: $(BIN)/closedchain
 	$(BIN)/python benchmarks/large_mechanisms.py
 
 clean:
-	rm -rf $(VENV) report.txt
+	rm -rf $(VENV) report.txt docs/_build

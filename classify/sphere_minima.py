@@ -92,7 +92,7 @@ def sphere_minima(function, dimension, starts=None, limit=None, scan=180, closed
 def distinct_directions(vectors, values=None):
     """Indices of unit vectors that are distinct up to sign, lowest value first.
 
-    A vector is kept unless it is parallel or antiparallel (|cos| ≥ 1 −
+    A vector is kept unless it is parallel or antiparallel (``|cos|`` ≥ 1 −
     :data:`PARALLEL`) to one kept before it, in the order of `values`
     (stable) or, without values, as given.
 

@@ -29,19 +29,29 @@ extensions = [
 napoleon_google_docstring = False
 napoleon_numpy_docstring = True
 napoleon_use_rtype = False
+# an "Attributes" section as fields of its class, not as objects of their own (a NamedTuple's fields are
+# documented by autodoc already)
+napoleon_use_ivar = True
+
+# numpydoc types name shapes ("ndarray, shape=[rows, columns]"): Sphinx makes each word a cross-reference,
+# and a shape name that is also an attribute somewhere (``rows``, ``blocks``) is ambiguous, not a link
+suppress_warnings = ["ref.python"]
 
 autodoc_member_order = "bysource"
 autodoc_default_options = {"members": True, "show-inheritance": True}
 autodoc_typehints = "none"
 
-# The docstrings' examples run in their module's namespace; give the doctest
-# builder the public names of the three packages and numpy as np.
+# The doctest builder runs every example in one namespace (not its module's): the public names of the
+# three packages, numpy as np, and the few module-level helpers whose docstrings have examples.
 doctest_global_setup = """
 import numpy as np
 from manifold import *
 from mechanisms import *
 from mechanisms.io import *
+from mechanisms.mechanism import dense_memory_estimate
 from classify import *
+from classify.report import format_values
+from classify.text import printable
 """
 
 source_suffix = {".rst": "restructuredtext"}

@@ -49,7 +49,7 @@ JOINT_TYPES = {
 _FACTORS = {"R": ("S1",), "P": ("R",), "S": ("SO3",), "U": ("S1", "S1"), "C": ("S1", "R")}
 _SUFFIXES = {"R": ("",), "P": ("",), "S": ("[x]", "[y]", "[z]"), "U": ("[1]", "[2]"),
              "C": ("[angle]", "[slide]")}
-#: largest |coordinate| of a point or an axis: beyond it squares of distances lose all precision
+#: largest ``|coordinate|`` of a point or an axis: beyond it squares of distances lose all precision
 #: (and overflow near 1e154); a mechanism drawn in micrometres or in kilometres stays far inside
 COORDINATE_LIMIT = 1e12
 #: longest name (of the mechanism, a joint, a link, a space, a type) in characters
