@@ -26,6 +26,7 @@ bench: $(BIN)/closedchain
 	$(BIN)/python benchmarks/speed.py
 	$(BIN)/python benchmarks/startup.py
 	$(BIN)/python benchmarks/large_mechanisms.py
+	$(BIN)/python benchmarks/sweep.py
 
 clean:
 	rm -rf $(VENV) report.txt docs/_build

@@ -12,6 +12,10 @@
   classifies every point of a grid of joint coordinates;
 * ``closedchain sweep NAME --param K=a:b:n …`` (:mod:`classify.cli.sweep_command`)
   sweeps a catalogue parameter grid, one Dask task per chunk of designs;
+* ``closedchain draw FILE|NAME --out FIG`` (:mod:`classify.cli.draw_command`) draws
+  the mechanism at a configuration, with its lost directions at a singularity;
+* ``closedchain loci FILE|NAME`` (:mod:`classify.cli.loci_command`) traces the
+  singularity loci of a 1- or 2-dof mechanism and draws its C-space map;
 * ``closedchain catalog [NAME]`` (:mod:`classify.cli.catalog_command`) lists the
   catalogue, describes an entry or writes it as a mechanism file.
 
@@ -33,7 +37,8 @@ import traceback
 from mechanisms import ConfigurationError, MechanismError
 
 from ..text import printable
-from . import catalog_command, classify_command, compare_command, map_command, report_command, sweep_command
+from . import (catalog_command, classify_command, compare_command, draw_command, loci_command, map_command,
+               report_command, sweep_command)
 from ._common import InputError, Parser
 from .report_command import report_table
 
@@ -47,6 +52,8 @@ COMMANDS = {
     "catalog": catalog_command,
     "map": map_command,
     "sweep": sweep_command,
+    "draw": draw_command,
+    "loci": loci_command,
 }
 
 

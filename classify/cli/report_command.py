@@ -24,8 +24,8 @@ from ._common import (
     MECHANISM_SUFFIXES, InputError, check_length_scale, common_options, dumps, is_entry, path_exists, write_output,
 )
 
-__all__ = ["add_parser", "run", "run_tasks", "report_table", "report_summary", "ReportRow", "JOINT_OUTPUTS",
-           "CONFIGURATION_PARAMETERS", "LEGEND", "legend"]
+__all__ = ["add_parser", "run", "run_tasks", "report_table", "table_cells", "report_summary", "ReportRow",
+           "JOINT_OUTPUTS", "CONFIGURATION_PARAMETERS", "LEGEND", "legend"]
 
 #: catalogue entry → the joints whose coordinates are the Gosselin–Angeles outputs, where the paper compares with a
 #: joint output rather than the end-effector (whose dimension differs from the number of inputs): the first joint
@@ -195,11 +195,11 @@ def _gosselin_angeles_cell(comparison, outputs):
     return cell + (f" [outputs {', '.join(map(printable, outputs))}]" if outputs else "")
 
 
-def report_table(rows):
-    """A fixed-width table, one line per :class:`ReportRow` (or ``(source, name, report, comparison)`` tuple).
+def table_cells(rows):
+    """The header and the cells of the report's table, one tuple of str per :class:`ReportRow` (or
+    ``(source, name, report, comparison)`` tuple); names are escaped (:func:`classify.report.printable`).
 
-    The last column is Gosselin–Angeles's kinds from the derived matrices; names are escaped
-    (:func:`classify.report.printable`).
+    The last column is Gosselin–Angeles's kinds from the derived matrices.
     """
     header = ("source", "configuration", "dof", "kinds", "C-space", "actuator", "end-effector", "κ",
               "G–A (derived)")
@@ -210,6 +210,12 @@ def report_table(rows):
                       ", ".join(report.kinds) or "regular", _rank(report.cspace), _actuator_cell(report),
                       _rank(report.end_effector), _condition_cell(report),
                       _gosselin_angeles_cell(row.comparison, row.outputs)))
+    return header, lines
+
+
+def report_table(rows):
+    """A fixed-width table of :func:`table_cells`, one line per :class:`ReportRow`."""
+    header, lines = table_cells(rows)
     widths = [max(len(line[i]) for line in lines + [header]) for i in range(len(header))]
     text = ["  ".join(cell.ljust(width) for cell, width in zip(line, widths)).rstrip() for line in [header] + lines]
     text.insert(1, "  ".join("-" * width for width in widths))

@@ -1,0 +1,148 @@
+"""Pictures of singularity loci and C-space maps (:mod:`classify.loci`), in the coordinates the user chooses.
+
+* :func:`draw_loci`: each locus piece as a line (actuator red, end-effector
+  blue; gid ``locus:KIND:INDEX``), C-space singularities (branch points) as
+  black crosses (gid ``branch-point:INDEX``).
+* :func:`draw_cspace_map`: M itself under the loci. 1 dof: each traced
+  branch of M as a line of its own colour (gid ``branch:INDEX``), its
+  crossings the branch points (Park & Kim 1999 Fig. 3a, Fig. 4: the two
+  branches of the slider-crank meeting at its C-space singularity).
+  2 dof: the points of M the search started from, coloured by the signs of
+  the actuator and end-effector functions (gid ``mode:SA,SE``): the
+  assembly modes (sign of det A) and working modes (sign of det B) of
+  Chablat, Wenger & Angeles 1998 (Figs. 2–5), with the loci as their
+  boundaries.
+
+Angles are wrapped to [−π, π); a line is broken where it wraps.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .drawing import KIND_COLOURS
+
+__all__ = ["draw_loci", "draw_cspace_map", "BRANCH_COLOURS"]
+
+#: colours of the branches of a 1-dof C-space map
+BRANCH_COLOURS = ("tab:green", "tab:orange", "tab:cyan", "tab:olive", "tab:pink", "tab:brown")
+#: sign patterns (actuator, end-effector) → colour
+_MODE_COLOURS = {(1, 1): "#c6dbef", (1, -1): "#fdd0a2", (-1, 1): "#c7e9c0", (-1, -1): "#dadaeb"}
+
+
+def _broken(values, names, mechanism_coordinates):
+    """The line with NaN rows inserted where a wrapped angle jumps by more than π."""
+    if len(values) < 2 or not mechanism_coordinates:
+        return values
+    jumps = np.flatnonzero(np.any(np.abs(np.diff(values, axis=0)) > np.pi, axis=1))
+    return np.insert(values, jumps + 1, np.nan, axis=0) if jumps.size else values
+
+
+def _axes(figure_size, dimension):
+    from matplotlib.figure import Figure
+
+    figure = Figure(figsize=figure_size)
+    return figure.add_subplot(projection="3d" if dimension == 3 else None)
+
+
+def _line(axes, values, **style):
+    if values.shape[1] == 3:
+        return axes.plot(values[:, 0], values[:, 1], values[:, 2], **style)[0]
+    if values.shape[1] == 1:
+        return axes.plot(values[:, 0], np.zeros(len(values)), **style)[0]
+    return axes.plot(values[:, 0], values[:, 1], **style)[0]
+
+
+def draw_loci(mechanism, loci, coordinates, axes=None, title=None):
+    """Draw the loci (see the module notes).
+
+    Parameters
+    ----------
+    mechanism : Mechanism
+    loci : Loci
+    coordinates : sequence of int or "end-effector"
+        As :func:`classify.loci.locus_coordinates`.
+    axes : matplotlib Axes, optional
+    title : str, optional
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    from ..loci import locus_coordinates
+
+    joints = not isinstance(coordinates, str)
+    names = None
+    if axes is None:
+        dimension = 3 if (not joints and mechanism.space == "spatial") or (joints and len(coordinates) == 3) else 2
+        axes = _axes((6, 5.5), dimension)
+    labelled = set()
+    for index, piece in enumerate(loci.pieces):
+        values, names = locus_coordinates(mechanism, piece.points, coordinates)
+        if piece.kind == "cspace":
+            _line(axes, values, linestyle="none", marker="X", markersize=11, color="k", zorder=6,
+                  gid=f"branch-point:{index}", label=None if "cspace" in labelled else "C-space singularity")
+        else:
+            style = dict(color=KIND_COLOURS[piece.kind], linewidth=2, gid=f"locus:{piece.kind}:{index}",
+                         label=None if piece.kind in labelled else f"{piece.kind.replace('_', '-')} locus")
+            if len(values) == 1:
+                style.update(linestyle="none", marker="o", markersize=8)
+            _line(axes, _broken(values, names, joints), **style)
+        labelled.add(piece.kind)
+    if names is None:
+        _, names = locus_coordinates(mechanism, loci.samples[:1], coordinates) if len(loci.samples) else (None, ())
+    _finish(axes, names, title)
+    return axes.figure
+
+
+def draw_cspace_map(mechanism, loci, coordinates, axes=None, title=None):
+    """Draw M in the chosen coordinates with its branches or modes, the loci overlaid (see the module notes).
+
+    Parameters
+    ----------
+    mechanism : Mechanism
+    loci : Loci
+    coordinates : sequence of int or "end-effector"
+    axes : matplotlib Axes, optional
+    title : str, optional
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    from ..loci import locus_coordinates
+
+    joints = not isinstance(coordinates, str)
+    if axes is None:
+        dimension = 3 if (not joints and mechanism.space == "spatial") or (joints and len(coordinates) == 3) else 2
+        axes = _axes((6, 5.5), dimension)
+    for index, branch in enumerate(loci.branches):
+        values, _ = locus_coordinates(mechanism, branch.points, coordinates)
+        _line(axes, _broken(values, None, joints), color=BRANCH_COLOURS[index % len(BRANCH_COLOURS)], linewidth=5,
+              alpha=0.5, gid=f"branch:{index}", label=f"branch {index + 1}" + (" (closed)" if branch.closed else ""))
+    if not loci.branches and len(loci.samples):
+        values, _ = locus_coordinates(mechanism, loci.samples, coordinates)
+        signs = loci.sample_signs.astype(int)
+        for pattern, colour in _MODE_COLOURS.items():
+            chosen = np.all(signs == np.array(pattern), axis=1)
+            if chosen.any():
+                _line(axes, values[chosen], linestyle="none", marker="s", markersize=6, color=colour,
+                      gid=f"mode:{pattern[0]:+d},{pattern[1]:+d}",
+                      label=f"det sign: actuator {pattern[0]:+d}, end-effector {pattern[1]:+d}")
+    return draw_loci(mechanism, loci, coordinates, axes=axes, title=title)
+
+
+def _finish(axes, names, title):
+    from ..text import printable
+
+    names = tuple(printable(name) for name in names)
+    if len(names) >= 1:
+        axes.set_xlabel(names[0])
+    if len(names) >= 2:
+        axes.set_ylabel(names[1])
+    if len(names) >= 3:
+        axes.set_zlabel(names[2])
+    if axes.get_legend_handles_labels()[0]:
+        axes.legend(loc="best", fontsize="small")
+    if title is not None:
+        axes.set_title(title)

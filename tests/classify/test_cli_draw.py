@@ -1,0 +1,39 @@
+"""``closedchain draw``: a figure file written without a display, bad input refused with exit status 2."""
+
+import contextlib
+import io
+
+from classify.cli import main
+
+
+def run(argv):
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stderr(err):
+        status = main(argv, out=out)
+    return status, out.getvalue(), err.getvalue()
+
+
+def test_draw_writes_a_figure(tmp_path):
+    path = tmp_path / "five.svg"
+    status, out, err = run(["draw", "five-bar", "--configuration", "eq9_distal_aligned", "--out", str(path)])
+    assert status == 0, err
+    assert "actuator" in out and path.stat().st_size > 1000
+    assert "lost:actuator" in path.read_text()
+
+
+def test_draw_at_a_displacement(tmp_path):
+    path = tmp_path / "slider.png"
+    status, _, err = run(["draw", "slider-crank", "--at", '{"crank": 0.2}', "--project", "--out", str(path)])
+    assert status == 0, err
+    assert path.stat().st_size > 1000
+
+
+def test_draw_refuses_bad_input(tmp_path):
+    status, _, err = run(["draw", "five-bar", "--out", str(tmp_path / "x.txt")])
+    assert status == 2 and "--out" in err and "Traceback" not in err
+    status, _, err = run(["draw", "five-bar", "--kinds", "wrong", "--out", str(tmp_path / "x.png")])
+    assert status == 2 and "--kinds" in err
+    status, _, err = run(["draw", "five-bar", "--at", '{"A": 0.1}', "--out", str(tmp_path / "x.png")])
+    assert status == 2 and "--at" in err
+    status, _, err = run(["draw", "five-bar", "--out", str(tmp_path / "missing" / "x.png")])
+    assert status == 2 and "--out" in err
