@@ -12,7 +12,7 @@ $(BIN)/closedchain: pyproject.toml
 	touch $@
 
 demo: $(BIN)/closedchain
-	$(BIN)/closedchain report --output report.txt
+	$(BIN)/closedchain report --output report.txt --html report.html
 
 # the docs first (warnings are errors, so they cannot rot), then the suite, whose summary closes the output
 test: docs
@@ -29,4 +29,4 @@ bench: $(BIN)/closedchain
 	$(BIN)/python benchmarks/sweep.py
 
 clean:
-	rm -rf $(VENV) report.txt docs/_build
+	rm -rf $(VENV) report.txt report.html docs/_build

@@ -56,7 +56,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-__all__ = ["TOLERANCE", "STEP_LIMIT", "LocusPiece", "Loci", "sign_functions", "trace_loci", "TRACEABLE_KINDS",
+__all__ = ["default_columns", "TOLERANCE", "STEP_LIMIT", "LocusPiece", "Loci", "sign_functions", "trace_loci", "TRACEABLE_KINDS",
            "locus_coordinates"]
 
 #: ‖(Φ, s)‖ of a corrected locus point
@@ -437,7 +437,7 @@ def trace_loci(mechanism, start, columns=None, ranges=None, counts=(24, 24), kin
         spacing = min((high - low) / max(count - 1, 1) / ambient.tangent_scales[column]
                       for column, (low, high), count in zip(columns, ranges, counts))
         step = spacing / 2
-        values = {kind: functions[kind](samples[reached]) for kind in traced_kinds}
+        values = {kind: functions[kind](samples[reached]) if reached.any() else np.zeros(0) for kind in traced_kinds}
         full_values = {kind: np.zeros(len(samples)) for kind in traced_kinds}
         for kind in traced_kinds:
             full_values[kind][reached] = values[kind]
@@ -563,6 +563,29 @@ def _assembled_grid(mechanism, start, columns, ranges, counts):
 
 
 # ------------------------------------------------------------------------------------------------ coordinates
+
+def default_columns(mechanism, dof):
+    """The tangent coordinates a locus is traced over and shown in, when the user names none.
+
+    2 dof: the two actuated coordinates, else the first two. 1 dof: the first
+    actuated coordinate (else the first) and the next one.
+
+    Parameters
+    ----------
+    mechanism : Mechanism
+    dof : int
+        1 or 2.
+
+    Returns
+    -------
+    list of int
+    """
+    actuated = list(mechanism.actuated_coordinates)
+    if dof == 2:
+        return actuated if len(actuated) == 2 else [0, 1]
+    first = actuated[0] if actuated else 0
+    return [first, (first + 1) % mechanism.ambient_dimension]
+
 
 def locus_coordinates(mechanism, points, coordinates):
     """The coordinates a locus is shown in.

@@ -16,6 +16,15 @@
   the mechanism at a configuration, with its lost directions at a singularity;
 * ``closedchain loci FILE|NAME`` (:mod:`classify.cli.loci_command`) traces the
   singularity loci of a 1- or 2-dof mechanism and draws its C-space map;
+* ``closedchain conditioning FILE|NAME`` (:mod:`classify.cli.conditioning_command`)
+  condition numbers, characteristic length, working modes and isoconditioning
+  maps (Chablat, Wenger & Angeles 1998; Chablat, Caro, Wenger & Angeles 2002);
+* ``closedchain line-plane`` (:mod:`classify.cli.line_plane_command`) the
+  line-plane 5-SPU's family, B-lines, rearrangements and assembly modes
+  (Borràs, Thomas & Torras 2011);
+* ``closedchain convert FILE`` (:mod:`classify.cli.convert_command`) writes a
+  URDF (+ closures) or MJCF robot as a mechanism file, or a mechanism as
+  URDF + closures;
 * ``closedchain catalog [NAME]`` (:mod:`classify.cli.catalog_command`) lists the
   catalogue, describes an entry or writes it as a mechanism file.
 
@@ -37,8 +46,8 @@ import traceback
 from mechanisms import ConfigurationError, MechanismError
 
 from ..text import printable
-from . import (catalog_command, classify_command, compare_command, draw_command, loci_command, map_command,
-               report_command, sweep_command)
+from . import (catalog_command, classify_command, compare_command, conditioning_command, convert_command, draw_command,
+               line_plane_command, loci_command, map_command, report_command, sweep_command)
 from ._common import InputError, Parser
 from .report_command import report_table
 
@@ -52,6 +61,9 @@ COMMANDS = {
     "catalog": catalog_command,
     "map": map_command,
     "sweep": sweep_command,
+    "conditioning": conditioning_command,
+    "line-plane": line_plane_command,
+    "convert": convert_command,
     "draw": draw_command,
     "loci": loci_command,
 }

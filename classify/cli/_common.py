@@ -13,10 +13,12 @@ __all__ = [
     "MECHANISM_SUFFIXES", "COUNT_LIMIT", "SEED_LIMIT", "LENGTH_SCALE_RATIO", "PATH_STEP_RANGE",
     "InputError", "Parser", "entry_options", "common_options", "displacements",
     "check_length_scale", "check_count", "check_path_step", "is_entry", "path_exists", "entry_values",
-    "source", "joint_list", "finite", "dumps", "write_output",
+    "source", "joint_list", "finite", "dumps", "write_output", "IMPORT_SUFFIXES", "closures_option", "import_file",
 ]
 
 MECHANISM_SUFFIXES = (".yaml", ".yml", ".json")
+#: inputs in other formats, imported and assembled (:mod:`mechanisms.urdf`, :mod:`mechanisms.mjcf`)
+IMPORT_SUFFIXES = (".urdf", ".xml")
 #: most configurations a count option (--samples, --path) may ask for
 COUNT_LIMIT = 10_000
 #: largest --seed (NumPy seeds are non-negative integers; 2⁶⁴ − 1 is plenty)
@@ -44,6 +46,35 @@ def entry_options(parser):
                         help="a named configuration (of the catalogue entry, or of the file)")
     parser.add_argument("--param", action="append", default=[], metavar="K=V",
                         help="a catalogue parameter (repeatable); see `closedchain catalog NAME`")
+
+
+def closures_option(parser):
+    """``--closures FILE``: the loop closures of a URDF input (:mod:`mechanisms.closures`)."""
+    parser.add_argument("--closures", default=None, metavar="FILE",
+                        help="with a URDF: its loop closures (YAML: closed_loop, type 6d/3d, name_mot, "
+                             "joint_name/joint_type)")
+
+
+def import_file(path, closures=None):
+    """Import a URDF (with its closures file) or an MJCF file: :class:`mechanisms.urdf.Imported`.
+
+    Raises
+    ------
+    InputError
+        ``--closures`` given with an MJCF file.
+    MechanismError
+        From the import, one line naming the file and field.
+    """
+    if Path(path).suffix == ".urdf":
+        from mechanisms.urdf import read_urdf
+
+        return read_urdf(path, closures)
+    if closures is not None:
+        raise InputError(f"--closures: applies to a URDF input, not to {path} (an MJCF file has its loops as "
+                         f"<equality> constraints)")
+    from mechanisms.mjcf import read_mjcf
+
+    return read_mjcf(path)
 
 
 def seed_type(text):
@@ -209,10 +240,22 @@ def source(arguments):
 def _source(arguments):
     from mechanisms.io import read  # imported when used: YAML, NumPy
 
+    closures = getattr(arguments, "closures", None)
     if is_entry(arguments.file):
+        if closures is not None:
+            raise InputError("--closures: applies to a URDF input, not to a catalogue entry")
         item = catalogue.entry(arguments.file)
         return item.assemble(entry_values(item, arguments)), {}
     path = Path(arguments.file)
+    if path.suffix in IMPORT_SUFFIXES and path_exists(arguments.file):
+        for option, given in (("--param", arguments.param), ("--configuration", arguments.configuration)):
+            if given:
+                raise InputError(f"{option}: does not apply to the imported file {arguments.file}")
+        imported = import_file(path, closures)
+        arguments.imported = imported
+        return imported.mechanism, {}
+    if closures is not None:
+        raise InputError(f"--closures: applies to a URDF input (.urdf), not to {arguments.file}")
     if not path_exists(arguments.file) and path.suffix not in MECHANISM_SUFFIXES:
         raise InputError(f"{arguments.file}: no such file or catalogue entry (see `closedchain catalog`)")
     if arguments.param:

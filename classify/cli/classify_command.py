@@ -24,8 +24,8 @@ import sys
 from ..progress import show_progress
 from ..text import printable
 from ._common import (
-    InputError, check_length_scale, common_options, displacements, dumps, entry_options, entry_values, is_entry,
-    source, survey_option,
+    InputError, check_length_scale, closures_option, common_options, displacements, dumps, entry_options,
+    entry_values, is_entry, source, survey_option,
 )
 
 __all__ = ["add_parser", "run", "describe_source"]
@@ -57,6 +57,8 @@ def describe_source(arguments, at=None):
                   "configuration": arguments.configuration}
     else:
         result = {"file": arguments.file, "configuration": arguments.configuration}
+        if getattr(arguments, "closures", None) is not None:
+            result["closures"] = arguments.closures
     if at:
         result["at"] = at
     return result
@@ -65,8 +67,10 @@ def describe_source(arguments, at=None):
 def add_parser(commands):
     parser = commands.add_parser("classify", help="classify one configuration, or a batch of them, of a mechanism "
                                                   "file or catalogue entry")
-    parser.add_argument("file", metavar="FILE|NAME", help="mechanism file (YAML or JSON) or catalogue name")
+    parser.add_argument("file", metavar="FILE|NAME", help="mechanism file (YAML or JSON), URDF (with --closures), "
+                                                          "MJCF (.xml) or catalogue name")
     entry_options(parser)
+    closures_option(parser)
     parser.add_argument("--at", default=None,
                         help="joint displacements from home as a JSON object, or @file.json")
     parser.add_argument("--batch", default=None, metavar="FILE",
@@ -147,14 +151,19 @@ def _run_single(arguments, out):
     rng = np.random.default_rng(arguments.seed)
     report = classify(mechanism, point, survey=survey, rng=rng, length_scale=arguments.length_scale)
     report = replace(report, source=describe_source(arguments, at))
+    imported = getattr(arguments, "imported", None)
     if arguments.format == "json":
         result = report.to_dict()
+        if imported is not None:
+            result["import"] = imported.to_dict()
         if arguments.project:
             result["projection_distance"] = distance
         if assembly is not None:
             result["assembly"] = assembly
         out.write(dumps(result) + "\n")
     else:
+        if imported is not None:
+            out.write("".join(f"imported: {printable(note)}\n" for note in imported.notes))
         if distance:
             out.write(f"projected onto the C-space: moved by {distance:.3g}\n")
         if assembly is not None:

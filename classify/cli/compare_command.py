@@ -9,8 +9,8 @@ from dataclasses import replace
 
 from ..text import printable
 from ._common import (
-    InputError, check_count, check_length_scale, check_path_step, common_options, displacements, dumps,
-    entry_options, is_entry, joint_list, source,
+    InputError, check_count, check_length_scale, check_path_step, closures_option, common_options, displacements,
+    dumps, entry_options, is_entry, joint_list, source,
 )
 
 __all__ = ["add_parser", "run"]
@@ -19,8 +19,10 @@ __all__ = ["add_parser", "run"]
 def add_parser(commands):
     parser = commands.add_parser("compare", help="Park–Kim and Gosselin–Angeles side by side, with the reason "
                                                  "for every difference")
-    parser.add_argument("file", metavar="FILE|NAME", help="mechanism file (YAML or JSON) or catalogue name")
+    parser.add_argument("file", metavar="FILE|NAME", help="mechanism file (YAML or JSON), URDF (with --closures), "
+                                                          "MJCF (.xml) or catalogue name")
     entry_options(parser)
+    closures_option(parser)
     parser.add_argument("--at", action="append", default=[], metavar="JSON",
                         help="a configuration: joint displacements from home as JSON or @file.json (repeatable)")
     parser.add_argument("--project", action="store_true",

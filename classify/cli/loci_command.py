@@ -129,7 +129,7 @@ def _text(document):
 def run(arguments, out):
     from mechanisms import configuration
 
-    from ..loci import trace_loci
+    from ..loci import default_columns, trace_loci
     from ..model import model_of
     from ..survey import survey_of
     from . import _outputs as outputs
@@ -151,15 +151,8 @@ def run(arguments, out):
     columns, ranges, counts = _grid(arguments, mechanism)
     if dof == 1 and arguments.grid is not None:
         raise InputError("--grid: applies to 2-dof mechanisms (a 1-dof C-space is followed from sampled points)")
-    actuated = list(mechanism.actuated_coordinates)
-    if columns is not None:
-        default = columns
-    elif dof == 2:
-        default = actuated if len(actuated) == 2 else [0, 1]
-    else:
-        first = actuated[0] if actuated else 0
-        default = [first, (first + 1) % mechanism.ambient_dimension]
-    coordinates = _coordinates(arguments.coordinates, mechanism, default)
+    coordinates = _coordinates(arguments.coordinates, mechanism,
+                               columns if columns is not None else default_columns(mechanism, dof))
     loci = trace_loci(mechanism, start, columns=columns, ranges=ranges, counts=counts, kinds=kinds,
                       rng=np.random.default_rng(arguments.seed), survey=survey)
     from ..loci import locus_coordinates

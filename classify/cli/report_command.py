@@ -150,6 +150,9 @@ def add_parser(commands):
                              "at its defaults and at each named configuration)")
     parser.add_argument("--output", default=None,
                         help="write the report to this file and print only a summary")
+    parser.add_argument("--html", default=None, metavar="FILE",
+                        help="also write the report as one self-contained HTML page, with each configuration drawn "
+                             "and the singularity loci of each design of one or two dof")
     parser.add_argument("--jobs", type=int, default=None, metavar="N",
                         help="processes to run in parallel (default: the available cores; 1: none)")
     parser.add_argument("--format", choices=("json", "text"), default="text")
@@ -410,20 +413,27 @@ def run_tasks(tasks, seed=0, length_scale=None, jobs=None):
     The rows do not depend on `jobs`: each configuration is classified with
     ``numpy.random.default_rng(seed)`` and each shared survey too.
     """
+    work = functools.partial(_rows, seed=seed, length_scale=length_scale)
+    return [row for rows in _map_tasks(work, tasks, jobs, "classifying") for row in rows]
+
+
+def _map_tasks(work, tasks, jobs, description):
+    """``[work(task) for task in tasks]``, in `jobs` processes (default the available cores; 1: in this one),
+    with a progress bar counting configurations; the first error stops the rest."""
     from concurrent.futures import ProcessPoolExecutor, as_completed
 
-    jobs = min(_available_cores() if jobs is None else jobs, len(tasks))
     from ..progress import progress_bar
 
-    with progress_bar(sum(len(task.names) for task in tasks), "classifying") as progress:
+    jobs = min(_available_cores() if jobs is None else jobs, len(tasks))
+    with progress_bar(sum(len(task.names) for task in tasks), description) as progress:
         if jobs <= 1:
             results = []
             for task in tasks:
-                results.append(_rows(task, seed, length_scale))
+                results.append(work(task))
                 progress.update(len(task.names))
-            return [row for rows in results for row in rows]
+            return results
         with ProcessPoolExecutor(max_workers=jobs) as executor:
-            futures = {executor.submit(_rows, task, seed, length_scale): task for task in tasks}
+            futures = {executor.submit(work, task): task for task in tasks}
             try:
                 for future in as_completed(futures):
                     future.result()  # a worker's error stops the report at once
@@ -431,7 +441,62 @@ def run_tasks(tasks, seed=0, length_scale=None, jobs=None):
             except BaseException:
                 executor.shutdown(wait=False, cancel_futures=True)
                 raise
-            return [row for future in futures for row in future.result()]
+            return [future.result() for future in futures]
+
+
+# ------------------------------------------------------------------------------------------------ the HTML page
+
+def _configurations_of(task):
+    """(name, mechanism, point) of each configuration of a task, as :func:`_catalogue_rows` and
+    :func:`_file_rows` classify them."""
+    from mechanisms import configuration, home
+    from mechanisms.io import read
+
+    if not task.is_file:
+        item = catalogue.entry(task.source)
+        for name in task.names:
+            mechanism = item.mechanism(None if name == "default" else name)
+            yield name, mechanism, home(mechanism)
+        return
+    document = read(Path(task.source))
+    named = {"home": {}, **document.configurations}
+    for name in task.names:
+        yield name, document.mechanism, configuration(document.mechanism, named[name]).point
+
+
+def _task_pictures(task, reports, seed=0):
+    """The pictures of one task (run in a worker process): ``(source, name) → [Picture]`` for each configuration
+    drawn (`reports`: ``(source, name) → Report``), and ``(source, None) → [Picture]`` for the loci of the task's
+    design when it has one or two dof."""
+    from ..model import model_of
+    from ..report_pictures import configuration_picture, loci_picture
+    from ..survey import survey_of
+
+    pictures, configurations = {}, list(_configurations_of(task))
+    for name, mechanism, point in configurations:
+        pictures[task.source, name] = [configuration_picture(mechanism, point, reports[task.source, name],
+                                                             f"{task.source}: {name}")]
+    # the loci from the task's first regular configuration (a grid cannot be continued from a singular one)
+    regular = [entry for entry in configurations if not reports[task.source, entry[0]].kinds]
+    name, mechanism, point = (regular or configurations)[0]
+    loci = loci_picture(mechanism, point, survey_of(model_of(mechanism)),
+                        f"{task.source} at {name}: C-space and singularity loci", seed=seed)
+    if loci is not None:
+        pictures[task.source, None] = [loci]
+    return pictures
+
+
+def _html(tasks, rows, arguments):
+    """The HTML page of the report (:func:`classify.html_report.html_report`)."""
+    from ..html_report import html_report
+
+    reports = {(row.source, row.name): row.report for row in rows}
+    work = functools.partial(_task_pictures, reports=reports, seed=arguments.seed)
+    pictures = {}
+    for found in _map_tasks(work, tasks, arguments.jobs, "drawing"):
+        for key, value in found.items():
+            pictures.setdefault(key, []).extend(value)
+    return html_report(rows, pictures, summary=report_summary(rows, arguments.html), legend=legend())
 
 
 def _tasks(arguments):
@@ -460,6 +525,8 @@ def run(arguments, out):
     rows = sorted(run_tasks(tasks, arguments.seed, arguments.length_scale, arguments.jobs),
                   key=lambda row: position[row.source, row.name])
     text = _json(rows) if arguments.format == "json" else _text(rows)
+    if arguments.html:
+        write_output(arguments.html, _html(tasks, rows, arguments), "--html")
     if not arguments.output:
         out.write(text + "\n")
         return

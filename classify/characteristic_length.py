@@ -1,0 +1,239 @@
+"""The characteristic length L and the isotropic postures (Chablat, Caro, Wenger & Angeles 2002 §3.3-3.4).
+
+The orientation columns of the direct-kinematics matrix A have units of
+length², the others of length; dividing them by L makes A (eq. 7) and the
+Jacobians J̄ = Ā⁻¹B, K̄ = B⁻¹Ā dimensionless. L is found three ways:
+
+* in closed form where the isotropy conditions K̄K̄ᵀ = τ²1 (eqs. 9a-f) have a
+  solution: for the 3-PRR, L = √(−k₁k₂ / l₁ᵀl₂) (from eq. 9d), which under
+  the conditions (10a-d) is L = √2 r sin γ (§3.4), γ = ∠BᵢCᵢP;
+* by minimising κ(K̄) over L *and* the posture (scipy.optimize), reported with
+  the optimal posture (:func:`optimal_characteristic_length`);
+* for a mechanism with no paper relation at one configuration, by minimising
+  κ(J̄) over L alone (:func:`best_length_at`).
+
+Isotropic postures (κ = 1) are located by minimising κ over postures from
+several starts and keeping the minima with κ − 1 ≤ a tolerance
+(:func:`isotropic_postures`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .conditioning import condition_numbers, singular_value_ratio
+from .conditioning_matrices import three_prr_matrices
+
+__all__ = [
+    "CharacteristicLength", "three_prr_length", "three_prr_leg_angles", "isotropy_length", "isotropy_residuals",
+    "three_prr_kappa", "optimal_characteristic_length", "isotropic_postures", "best_length_at",
+]
+
+#: κ − 1 below which a minimum counts as isotropic (the optimiser reaches ~1e-10 on the 3-PRR)
+ISOTROPY_TOLERANCE = 1e-6
+
+
+@dataclass(frozen=True)
+class CharacteristicLength:
+    """A characteristic length and how it was found.
+
+    Attributes
+    ----------
+    value : float
+        L (the mechanism's units of length); None when no output is an orientation (no L is needed).
+    method : str
+        ``"closed_form"``, ``"optimised"``, ``"given"`` or ``"not_needed"``.
+    posture : tuple of float or None
+        The posture where it was found (the 3-PRR: x, y, φ).
+    kappa : float or None
+        κ(K̄) there (1 at an isotropic posture).
+    reference : str
+    """
+
+    value: float | None
+    method: str
+    posture: tuple | None = None
+    kappa: float | None = None
+    reference: str = ""
+
+    def to_dict(self):
+        return {"value": self.value, "method": self.method,
+                "posture": None if self.posture is None else [float(value) for value in self.posture],
+                "kappa": self.kappa, "reference": self.reference}
+
+
+def three_prr_length(platform_radius, gamma):
+    """L = √2 r sin γ (Chablat, Caro, Wenger & Angeles 2002 §3.4), shape of `gamma`."""
+    return np.sqrt(2.0) * platform_radius * np.sin(gamma)
+
+
+def three_prr_leg_angles(poses, signs, platform_radius=100.0, base_radius=200.0, leg_length=200.0):
+    """γᵢ = ∠BᵢCᵢP (eq. 8d) of the 3-PRR at stacks of poses, shape=[..., 3], in [0, π]."""
+    from .conditioning_matrices import _unit
+
+    poses = np.asarray(poses, dtype=float)
+    direct, _, _ = three_prr_matrices(poses, signs, platform_radius, base_radius, leg_length)
+    legs = direct[..., :2]                                    # lᵢ = cᵢ − bᵢ
+    vertex_angles = np.radians([210.0, 330.0, 90.0])
+    to_centre = -platform_radius * _unit(vertex_angles + poses[..., 2:3])   # p − cᵢ
+    cosine = -np.einsum("...ij,...ij->...i", legs, to_centre) / (
+        np.linalg.norm(legs, axis=-1) * platform_radius)
+    return np.arccos(np.clip(cosine, -1.0, 1.0))
+
+
+def isotropy_length(direct, orientation_column=2):
+    """L from eq. 9d, √(−k₁k₂ / l₁ᵀl₂), for stacks of (unnormalised) A; NaN where it has no real value.
+
+    Parameters
+    ----------
+    direct : array_like, shape=[..., n, n]
+        A with rows [lᵢᵀ, kᵢ] (kᵢ the orientation entry).
+    orientation_column : int
+    """
+    direct = np.asarray(direct, dtype=float)
+    legs = np.delete(direct, orientation_column, axis=-1)
+    moments = direct[..., orientation_column]
+    with np.errstate(invalid="ignore", divide="ignore"):
+        squared = -moments[..., 0] * moments[..., 1] / np.einsum("...i,...i->...", legs[..., 0, :], legs[..., 1, :])
+    return np.where(squared > 0, np.sqrt(np.where(squared > 0, squared, 0.0)), np.nan)
+
+
+def isotropy_residuals(direct, inverse, length, orientation_column=2):
+    """The isotropy conditions (eqs. 9a-f) at L, relative: K̄K̄ᵀ/τ² − 1 with τ² the mean of K̄K̄ᵀ's diagonal.
+
+    Returns
+    -------
+    ndarray, shape=[..., n, n]
+        0 exactly where K̄ = B⁻¹Ā is isotropic; the diagonal entries are (9a-c), the others (9d-f).
+    """
+    from .conditioning import normalise_orientation
+
+    normalised = normalise_orientation(direct, length, (orientation_column,))
+    diagonal = np.diagonal(np.asarray(inverse, dtype=float), axis1=-2, axis2=-1)
+    rows = normalised / diagonal[..., :, None]
+    product = rows @ np.swapaxes(rows, -1, -2)
+    scale = np.mean(np.diagonal(product, axis1=-2, axis2=-1), axis=-1)[..., None, None]
+    return product / scale - np.eye(product.shape[-1])
+
+
+def three_prr_kappa(length, poses, signs, matrix="B-1A", platform_radius=100.0, base_radius=200.0,
+                    leg_length=200.0):
+    """κ of one matrix of the 3-PRR at stacks of poses (∞ out of reach or singular), shape=[...]."""
+    direct, inverse, reachable = three_prr_matrices(poses, signs, platform_radius, base_radius, leg_length)
+    safe_direct = np.where(reachable[..., None, None], direct, np.eye(3))
+    safe_inverse = np.where(reachable[..., None, None], inverse, np.eye(3))
+    values = condition_numbers(safe_direct, safe_inverse, length, (2,)).values[matrix]
+    return np.where(reachable, values, np.inf)
+
+
+def optimal_characteristic_length(kappa, start_length, start_posture, length_bounds=None, rng=None, restarts=4,
+                                  spread=0.2):
+    """Minimise κ over L and the posture (scipy.optimize, Nelder–Mead on (log L, posture)).
+
+    Parameters
+    ----------
+    kappa : callable
+        ``kappa(length, posture) -> float`` (∞ where the posture is out of reach or singular).
+    start_length : float
+    start_posture : array_like, shape=[p]
+    length_bounds : tuple of float, optional
+        (low, high) for L; default start_length · (1e-3, 1e3).
+    rng : numpy.random.Generator, optional
+        Perturbs the starts of the restarts (default seeded 0).
+    restarts : int
+        Extra starts, each the best so far moved by `spread` (relative in L, absolute in the posture
+        scaled by its size + 1).
+
+    Returns
+    -------
+    CharacteristicLength
+        ``method="optimised"``, with the optimal posture and κ there.
+    """
+    from scipy.optimize import minimize
+
+    rng = np.random.default_rng(0) if rng is None else rng
+    low, high = (start_length * 1e-3, start_length * 1e3) if length_bounds is None else length_bounds
+    start_posture = np.asarray(start_posture, dtype=float)
+
+    def objective(variables):
+        length = float(np.exp(variables[0]))
+        if not low <= length <= high:
+            return 1e12
+        value = float(kappa(length, variables[1:]))
+        return value if np.isfinite(value) else 1e12
+
+    best = np.concatenate([[np.log(start_length)], start_posture])
+    best_value = objective(best)
+    for attempt in range(restarts + 1):
+        start = best if attempt == 0 else best + spread * rng.standard_normal(best.shape) * (np.abs(best) + 1)
+        result = minimize(objective, start, method="Nelder-Mead",
+                          options={"xatol": 1e-10, "fatol": 1e-12, "maxiter": 4000, "maxfev": 8000})
+        if result.fun < best_value:
+            best, best_value = result.x, float(result.fun)
+    return CharacteristicLength(float(np.exp(best[0])), "optimised", tuple(float(value) for value in best[1:]),
+                                best_value, "Chablat, Caro, Wenger & Angeles 2002 §3.2 (κ(Ā) minimised over L "
+                                            "and the posture)")
+
+
+def isotropic_postures(kappa, starts, tolerance=ISOTROPY_TOLERANCE, separation=1e-4):
+    """Postures where κ = 1, by minimising κ over the posture from each start (Nelder–Mead).
+
+    Parameters
+    ----------
+    kappa : callable
+        ``kappa(posture) -> float``.
+    starts : array_like, shape=[s, p]
+    tolerance : float
+        κ − 1 ≤ tolerance counts as isotropic (the margin is returned with each posture).
+    separation : float
+        Postures closer than this (relative to their size + 1) are the same.
+
+    Returns
+    -------
+    list of (ndarray shape=[p], float)
+        (posture, κ − 1), in the order found.
+    """
+    from scipy.optimize import minimize
+
+    found = []
+    for start in np.atleast_2d(np.asarray(starts, dtype=float)):
+        def objective(posture):
+            value = float(kappa(posture))
+            return value if np.isfinite(value) else 1e12
+        result = minimize(objective, start, method="Nelder-Mead",
+                          options={"xatol": 1e-10, "fatol": 1e-13, "maxiter": 4000, "maxfev": 8000})
+        margin = float(result.fun) - 1.0
+        if margin > tolerance:
+            continue
+        posture = np.asarray(result.x, dtype=float)
+        if not any(np.max(np.abs(posture - known) / (np.abs(known) + 1)) < separation for known, _ in found):
+            found.append((posture, margin))
+    return found
+
+
+def best_length_at(jacobian_of_length, length_bounds):
+    """The L minimising κ(J̄(L)) at one configuration (scipy ``minimize_scalar`` on log L).
+
+    Parameters
+    ----------
+    jacobian_of_length : callable
+        ``L -> J̄``, shape=[n, n].
+    length_bounds : tuple of float
+
+    Returns
+    -------
+    CharacteristicLength
+        ``method="optimised"``.
+    """
+    from scipy.optimize import minimize_scalar
+
+    low, high = np.log(length_bounds[0]), np.log(length_bounds[1])
+
+    def objective(logarithm):
+        value = float(singular_value_ratio(jacobian_of_length(float(np.exp(logarithm)))))
+        return value if np.isfinite(value) else 1e12
+    result = minimize_scalar(objective, bounds=(low, high), method="bounded", options={"xatol": 1e-10})
+    return CharacteristicLength(float(np.exp(result.x)), "optimised", None, float(result.fun),
+                                "κ(J̄) minimised over L at the configuration")

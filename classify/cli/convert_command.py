@@ -1,0 +1,63 @@
+"""``closedchain convert FILE|NAME [--closures C.yaml] [--configuration C] [--param K=V] --write OUT``: convert a
+mechanism between formats.
+
+Inputs: a URDF with its closures file (``--closures``), an MJCF file (``.xml``), a mechanism file or a catalogue
+entry. Outputs (by ``--write``'s suffix): a contract-format mechanism file (``.yaml``, ``.yml``, ``.json``), whose
+home is the assembled configuration and whose ``description`` records the import's notes; or a URDF (``.urdf``)
+with its closures file beside it (same stem, ``.yaml``; :mod:`mechanisms.export`), which the URDF importer and
+Pinocchio read.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from ..text import printable
+from ._common import InputError, MECHANISM_SUFFIXES, closures_option, entry_options, source
+
+__all__ = ["add_parser", "run"]
+
+
+def add_parser(commands):
+    parser = commands.add_parser("convert", help="convert URDF + closures / MJCF to a mechanism file, and back")
+    parser.add_argument("file", metavar="FILE|NAME",
+                        help="URDF (with --closures), MJCF (.xml), mechanism file or catalogue name")
+    entry_options(parser)
+    closures_option(parser)
+    parser.add_argument("--write", required=True, metavar="OUT",
+                        help="the file to write: .yaml/.yml/.json (a mechanism file) or .urdf (with OUT's stem "
+                             ".yaml as its closures file)")
+    return parser
+
+
+def run(arguments, out):
+    from mechanisms import MechanismError
+    from mechanisms.io import save
+
+    target = Path(arguments.write)
+    if target.suffix not in (*MECHANISM_SUFFIXES, ".urdf"):
+        raise InputError(f"--write: expected a .yaml, .yml, .json or .urdf file, got {arguments.write}")
+    mechanism, named = source(arguments)
+    imported = getattr(arguments, "imported", None)
+    if target.suffix == ".urdf":
+        from mechanisms.export import write_urdf
+
+        closures_path = target.with_suffix(".yaml")
+        if named:
+            raise InputError("--configuration: a URDF is written at the mechanism's home")
+        try:
+            exported = write_urdf(mechanism, target, closures_path)
+        except MechanismError as error:
+            raise InputError(f"--write: {error}") from None
+        out.write(f"wrote {printable(str(target))} and its closures {printable(str(closures_path))}: "
+                  f"{len(exported.closures.loops)} loop(s), {len(exported.closures.actuated)} actuated joint(s)\n")
+        return
+    description = imported.description if imported is not None else None
+    try:
+        save(mechanism, target, configurations={"named": named} if named else None, description=description)
+    except MechanismError as error:
+        raise InputError(f"--write: {error}") from None
+    for note in (imported.notes if imported is not None else ()):
+        out.write(f"imported: {printable(note)}\n")
+    out.write(f"wrote {printable(str(target))}: {printable(mechanism.name)}, {len(mechanism.joints)} joints, "
+              f"{mechanism.loop_count} loop(s)\n")

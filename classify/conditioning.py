@@ -1,0 +1,396 @@
+"""Condition numbers of the direct and inverse kinematics matrices, batched over stacks of configurations.
+
+With the velocity relation ``A t = B θ̇`` of Chablat, Caro, Wenger & Angeles
+2002 (eq. 3) and Chablat, Wenger & Angeles 1998 (eq. 3a) — A the
+direct-kinematics matrix, B the inverse-kinematics matrix, t the output twist,
+θ̇ the actuated joint rates — this module computes, for stacks of matrices:
+
+* ``"A"``: κ(Ā), Ā = A with its orientation columns divided by the
+  characteristic length L (Chablat et al. 2002 eq. 7);
+* ``"B"``: κ(B);
+* ``"A-1B"``: κ(J̄), J̄ = Ā⁻¹B, the normalised Jacobian (t̄ = J̄ θ̇, t̄ the
+  twist with its angular rates multiplied by L);
+* ``"B-1A"``: κ(K̄), K̄ = B⁻¹Ā (eq. 9's K̄). κ(K̄) = κ(J̄) always, since
+  K̄ = J̄⁻¹; both are reported because the papers tabulate K̄;
+* ``"lambda"``: Park & Kim's condition number λ₁/λₙ (Park & Kim 1999 eq. 3),
+  the ratio of the extreme roots of ``det(λG − JᵀHJ) = 0``. With unit actuator
+  weights and H = diag(L², …, 1, …) it equals κ(J̄)²: λ's are squared singular
+  values.
+
+Definitions of κ (both papers call each "the condition number"):
+
+* :func:`singular_value_ratio` — σ_l/σ_s (Chablat et al. 2002 eq. 5;
+  Chablat, Wenger & Angeles 1998 eqs. 4 and 7);
+* :func:`square_root_ratio` — √(β_max/β_min) with β the singular values (the
+  papers' κ(B): Chablat et al. 2002 §3.6, Chablat, Wenger & Angeles 1998
+  eq. 11), i.e. the square root of σ_l/σ_s. The published global index of B
+  (Table 1 of the 2002 paper, 0.709) is reproduced by σ_l/σ_s, not by this
+  one (0.83); see ``docs/conditioning.rst``.
+
+Each value is returned with its inverse 1/κ = σ_s/σ_l, which is finite
+everywhere (0 at a singularity, where κ = ∞); maps and averages use 1/κ.
+
+Only κ(J̄) (and κ(K̄), λ) is independent of how the rows of F are written:
+scaling or reordering the rows of ``[B A]`` changes κ(A) and κ(B) but not
+A⁻¹B. κ(A) and κ(B) are therefore taken from a paper's own F where it gives
+one (:mod:`classify.conditioning_matrices`); for a mechanism without one
+(:func:`mechanism_condition_numbers`) they are those of the derived relation
+of :func:`classify.gosselin_angeles.derived_gosselin_angeles`, whose rows
+``[B A]`` are orthonormal in the weighted coordinates (E^½ θ̇ / s_a,
+H^½ ẋ / s_j): that normalisation is stated with the result.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+__all__ = [
+    "MATRICES", "DEFINITIONS", "ConditionNumbers",
+    "singular_value_ratio", "square_root_ratio", "inverse_condition", "normalise_orientation",
+    "condition_numbers", "mechanism_jacobians", "mechanism_condition_numbers",
+]
+
+#: the matrices whose condition numbers are reported, in order (JSON keys of ``closedchain conditioning``)
+MATRICES = ("A", "B", "A-1B", "B-1A", "lambda")
+#: the definitions of κ: name → what it is
+DEFINITIONS = {
+    "singular_value_ratio": "σ_l/σ_s (Chablat et al. 2002 eq. 5; Chablat, Wenger & Angeles 1998 eq. 4)",
+    "square_root_ratio": "√(β_max/β_min) (Chablat, Wenger & Angeles 1998 eq. 11; Chablat et al. 2002 §3.6)",
+}
+
+
+def _singular_values(matrices):
+    """Singular values of a stack, descending, shape=[..., n]; NaN for a matrix with a non-finite entry."""
+    from .metrics import singular_values
+
+    matrices = np.asarray(matrices, dtype=float)
+    finite = np.all(np.isfinite(matrices), axis=(-2, -1))
+    safe = np.where(finite[..., None, None], matrices, 0.0)
+    flat = safe.reshape((-1,) + safe.shape[-2:])
+    values = singular_values(flat).reshape(safe.shape[:-2] + (min(safe.shape[-2:]),))
+    return np.where(finite[..., None], values, np.nan)
+
+
+def _diagonal_singular_values(matrices):
+    """|diagonal| sorted descending when every matrix of the stack is exactly diagonal (B of both papers),
+    else None: the SVD of a diagonal matrix, without LAPACK."""
+    n = matrices.shape[-1]
+    if matrices.shape[-2] != n or n < 2:
+        return None
+    diagonal = np.diagonal(matrices, axis1=-2, axis2=-1)
+    if np.any(matrices - diagonal[..., :, None] * np.eye(n)):
+        return None
+    return -np.sort(-np.abs(diagonal), axis=-1)
+
+
+def inverse_condition(matrices, scale=None, rtol=1e-12):
+    """1/κ = σ_s/σ_l of a stack of matrices, shape=[...]: in [0, 1], 0 where singular, NaN where not finite.
+
+    Parameters
+    ----------
+    matrices : array_like, shape=[..., n, n]
+    scale : float, optional
+        The size of the matrices' entries away from singularities (the papers' L1 L2 for B): σ_l ≤
+        ``rtol · scale`` (every entry rounding noise, e.g. all legs folded at once) gives 1/κ = 0, not a ratio
+        of rounding errors.
+    rtol : float
+
+    Returns
+    -------
+    ndarray, shape=[...]
+        A zero matrix has 1/κ = 0.
+    """
+    matrices = np.asarray(matrices, dtype=float)
+    values = _diagonal_singular_values(matrices)
+    if values is None:
+        values = _singular_values(matrices)
+    largest, smallest = values[..., 0], values[..., -1]
+    if scale is not None:
+        largest = np.where(largest <= rtol * scale, 0.0, largest)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return np.where(largest > 0, smallest / np.where(largest > 0, largest, 1.0),
+                        np.where(np.isnan(largest), np.nan, 0.0))
+
+
+def singular_value_ratio(matrices):
+    """κ = σ_l/σ_s of a stack of matrices (Chablat et al. 2002 eq. 5), shape=[...]; ∞ where singular.
+
+    Parameters
+    ----------
+    matrices : array_like, shape=[..., n, n]
+
+    Returns
+    -------
+    ndarray, shape=[...]
+    """
+    inverse = inverse_condition(matrices)
+    with np.errstate(divide="ignore"):
+        return 1.0 / inverse
+
+
+def square_root_ratio(matrices):
+    """κ = √(β_max/β_min), β the singular values (Chablat, Wenger & Angeles 1998 eq. 11), shape=[...].
+
+    The papers' definition for the diagonal B (β = ``|Bᵢᵢ|``); it is the square root
+    of :func:`singular_value_ratio`.
+    """
+    return np.sqrt(singular_value_ratio(matrices))
+
+
+def normalise_orientation(direct, length, orientation_columns):
+    """Ā: the orientation columns of A divided by the characteristic length (Chablat et al. 2002 eq. 7).
+
+    Parameters
+    ----------
+    direct : array_like, shape=[..., n, n]
+        A, whose columns multiply the output twist t; the orientation columns
+        multiply angular rates (units length², the others length).
+    length : float or array_like, shape=[...]
+        L > 0.
+    orientation_columns : sequence of int
+        The columns of A that multiply angular rates (the 3-PRR: ``(2,)``).
+
+    Returns
+    -------
+    ndarray, shape=[..., n, n]
+    """
+    normalised = np.array(direct, dtype=float, copy=True)
+    columns = list(orientation_columns)
+    if columns:
+        normalised[..., :, columns] = normalised[..., :, columns] / np.asarray(length, dtype=float)[..., None, None]
+    return normalised
+
+
+@dataclass(frozen=True, eq=False)
+class ConditionNumbers:
+    """Condition numbers of stacks of configurations, one array per matrix.
+
+    Attributes
+    ----------
+    values : dict of str to ndarray, shape=[...]
+        ``{"A", "B", "A-1B", "B-1A", "lambda"}`` → κ (∞ where singular, NaN where undefined). ``"lambda"``
+        is Park & Kim's λ₁/λₙ.
+    length : float
+        The characteristic length L used (1 when no column is an orientation).
+    definition : str
+        The definition of κ used for ``"A"``, ``"B"``, ``"A-1B"``, ``"B-1A"`` (a key of :data:`DEFINITIONS`).
+    normalisation : str
+        Where A and B come from and how their rows are scaled.
+    """
+
+    values: dict
+    length: float
+    definition: str = "singular_value_ratio"
+    normalisation: str = ""
+
+    def inverse(self, matrix):
+        """1/κ of one matrix, shape=[...], 0 where singular."""
+        with np.errstate(divide="ignore"):
+            return 1.0 / self.values[matrix]
+
+    def at(self, index):
+        """The values of one configuration, ``{matrix: float or None}`` (None where undefined or infinite)."""
+        def number(value):
+            value = float(np.asarray(value)[index])
+            return value if np.isfinite(value) else None
+        return {matrix: number(self.values[matrix]) for matrix in MATRICES}
+
+
+def _measure(definition):
+    if definition == "singular_value_ratio":
+        return singular_value_ratio
+    if definition == "square_root_ratio":
+        return square_root_ratio
+    raise ValueError(f"definition: expected one of {', '.join(DEFINITIONS)}, got {definition!r}")
+
+
+def condition_numbers(direct, inverse, length=1.0, orientation_columns=(), definition="singular_value_ratio",
+                      normalisation="", scales=None):
+    """κ(Ā), κ(B), κ(Ā⁻¹B), κ(B⁻¹Ā) and λ₁/λₙ from stacks of A and B (``A t = B θ̇``).
+
+    Parameters
+    ----------
+    direct, inverse : array_like, shape=[..., n, n]
+        A and B.
+    length : float
+        The characteristic length L (Chablat et al. 2002 §3.4).
+    orientation_columns : sequence of int
+        Columns of A multiplying angular rates, divided by L (eq. 7).
+    definition : {"singular_value_ratio", "square_root_ratio"}
+        κ of each matrix (:data:`DEFINITIONS`).
+    normalisation : str
+        Recorded on the result.
+    scales : tuple of float, optional
+        Sizes of Ā's and B's entries away from singularities: a matrix whose singular values are all below
+        1e-12 times its scale counts as singular (:func:`inverse_condition`).
+
+    Returns
+    -------
+    ConditionNumbers
+        ``"lambda"`` = κ(J̄)² with σ_l/σ_s (Park & Kim's λ's with unit actuator weights and
+        H = diag(L², 1, …) on the normalised twist); ∞ where A or B is singular.
+
+    Notes
+    -----
+    J̄ = Ā⁻¹B is formed by a linear solve where Ā is regular; where Ā or B is
+    singular (1/κ = 0) κ(J̄) = κ(K̄) = ∞, as the papers' maps show.
+    """
+    _measure(definition)
+    normalised = normalise_orientation(direct, length, orientation_columns)
+    inverse = np.asarray(inverse, dtype=float)
+    direct_scale, input_scale = (None, None) if scales is None else scales
+    direct_inverse = inverse_condition(normalised, direct_scale)
+    input_inverse = inverse_condition(inverse, input_scale)
+    regular = (direct_inverse > 0) & (input_inverse > 0)
+    n = normalised.shape[-1]
+    identity = np.eye(n)
+    safe_direct = np.where(regular[..., None, None], normalised, identity)
+    safe_inverse = np.where(regular[..., None, None], inverse, identity)
+    if _diagonal_singular_values(safe_inverse) is not None:   # K̄ = B⁻¹Ā by rows: κ(K̄) = κ(J̄)
+        diagonal = np.diagonal(safe_inverse, axis1=-2, axis2=-1)
+        jacobian = safe_direct / diagonal[..., :, None]
+    else:
+        jacobian = np.linalg.solve(safe_direct, safe_inverse)
+    jacobian_ratio = np.where(regular, singular_value_ratio(jacobian), np.inf)
+    jacobian_ratio = np.where(np.isnan(direct_inverse) | np.isnan(input_inverse), np.nan, jacobian_ratio)
+    if definition == "singular_value_ratio":
+        jacobian_value = jacobian_ratio
+    else:
+        jacobian_value = np.sqrt(jacobian_ratio)
+    with np.errstate(divide="ignore"):
+        direct_ratio, input_ratio = 1.0 / direct_inverse, 1.0 / input_inverse
+    if definition == "square_root_ratio":
+        direct_ratio, input_ratio = np.sqrt(direct_ratio), np.sqrt(input_ratio)
+    values = {
+        "A": direct_ratio, "B": input_ratio,
+        "A-1B": jacobian_value, "B-1A": jacobian_value.copy(),
+        "lambda": jacobian_ratio ** 2,
+    }
+    return ConditionNumbers(values, float(length), definition, normalisation)
+
+
+# ------------------------------------------------------------------------------------------------ any mechanism
+
+def mechanism_jacobians(mechanism, points, length=None):
+    """The normalised Jacobian J̄ = H^½ Df T (E^½ Dπ T)⁻¹ of a mechanism at stacks of configurations.
+
+    Output twists per unit actuated rates, with the rotation rows of a pose
+    output multiplied by L (H = the end-effector metric of
+    :func:`classify.metrics.end_effector_metric`, diag(L², …) on rotations): the
+    paper's J̄ = Ā⁻¹B up to an orthogonal change of the output frame (body
+    twists) and its sign convention. It does not depend on the basis T of T_pM
+    (T → T R cancels), on the chart, on joint zeros or axis signs.
+
+    Parameters
+    ----------
+    mechanism : Mechanism
+        With n actuated coordinates, an n-dimensional end-effector and an n-dimensional C-space.
+    points : array_like, shape=[b, point_size]
+        Configurations on M.
+    length : float, optional
+        L (default: the mechanism's characteristic length, as Park & Kim's metric).
+
+    Returns
+    -------
+    jacobians : ndarray, shape=[b, n, n]
+        NaN where the actuators do not parametrise M (1/κ(E^½ Dπ T) = 0 up to rounding).
+    actuator_blocks : ndarray, shape=[b, n, n]
+        E^½ Dπ T.
+    output_blocks : ndarray, shape=[b, n, n]
+        H^½ Df T.
+
+    Raises
+    ------
+    ValueError
+        When the numbers of actuators, outputs and degrees of freedom differ.
+    """
+    from mechanisms import closure_and_jacobian, end_effector_jacobian
+
+    from .batch import _kernel_bases
+    from .metrics import metric_root
+    from .model import model_of
+
+    model = model_of(mechanism, length_scale=length)
+    points = np.atleast_2d(np.asarray(points, dtype=float))
+    actuator_count, output_count = model.actuators.shape[0], model.end_effector_dimension
+    _, _, constraint = closure_and_jacobian(mechanism, points)
+    scales = model.manifold.ambient.tangent_scales
+    scaled = np.asarray(constraint, dtype=float) * scales
+    freedom = scaled.shape[-1] - _constraint_rank(scaled)
+    if not actuator_count == output_count == freedom:
+        raise ValueError(f"{mechanism.name}: {actuator_count} actuated coordinates, {output_count} outputs and "
+                         f"{freedom} degrees of freedom; condition numbers of A⁻¹B need n of each")
+    basis = scales[:, None] * _kernel_bases(scaled, scaled.shape[-1] - freedom)
+    actuator_blocks = model.actuators @ basis
+    output_blocks = metric_root(model.end_effector_metric) @ end_effector_jacobian(mechanism, points) @ basis
+    regular = inverse_condition(actuator_blocks) > 1e-12
+    safe = np.where(regular[:, None, None], actuator_blocks, np.eye(freedom))
+    jacobians = np.swapaxes(np.linalg.solve(np.swapaxes(safe, -1, -2), np.swapaxes(output_blocks, -1, -2)),
+                            -1, -2)
+    return np.where(regular[:, None, None], jacobians, np.nan), actuator_blocks, output_blocks
+
+
+def _constraint_rank(scaled):
+    """The largest numerical rank of DΦ·diag(s) over the stack (rtol 1e-9 against σ₁)."""
+    from .metrics import singular_values
+
+    values = singular_values(scaled.reshape((-1,) + scaled.shape[-2:]))
+    if values.shape[-1] == 0:
+        return 0
+    return int(np.max(np.count_nonzero(values > 1e-9 * values[:, :1], axis=1)))
+
+
+def mechanism_condition_numbers(mechanism, points, length=None, rtol=1e-9):
+    """Condition numbers of a mechanism with no paper relation: derived A and B, batched J̄ and λ.
+
+    Parameters
+    ----------
+    mechanism : Mechanism
+    points : array_like, shape=[b, point_size]
+    length : float, optional
+        L of the end-effector metric (default: the mechanism's characteristic length).
+    rtol : float
+        Relative cut of the derived relation's rank decisions.
+
+    Returns
+    -------
+    ConditionNumbers
+        ``"A-1B"``, ``"B-1A"`` from :func:`mechanism_jacobians` (batched); ``"lambda"`` from
+        :func:`classify.metrics.proper_values` (Park & Kim); ``"A"`` and ``"B"`` from
+        :func:`classify.gosselin_angeles.derived_gosselin_angeles` one configuration at a time, their rows
+        ``[B A]`` orthonormal in the weighted coordinates (the stated normalisation; another F gives other
+        κ(A), κ(B)).
+    """
+    from manifold import tangent_basis
+
+    from .gosselin_angeles import derived_gosselin_angeles
+    from .metrics import metric_root, proper_values
+    from .model import model_of
+
+    model = model_of(mechanism, length_scale=length)
+    points = np.atleast_2d(np.asarray(points, dtype=float))
+    jacobians, actuator_blocks, output_blocks = mechanism_jacobians(mechanism, points, length)
+    jacobian_ratio = singular_value_ratio(jacobians)
+    count = actuator_blocks.shape[-1]
+    regular = np.all(np.isfinite(jacobians), axis=(-2, -1))
+    lambdas = np.full(len(points), np.inf)
+    if np.any(regular):
+        values = proper_values(actuator_blocks[regular], output_blocks[regular], np.eye(count), count)
+        with np.errstate(divide="ignore"):
+            lambdas[regular] = values[:, 0] / values[:, -1]
+    direct, inverse = np.full(len(points), np.nan), np.full(len(points), np.nan)
+    output_unroot = np.linalg.inv(metric_root(model.end_effector_metric))
+    input_unroot = np.diag(1.0 / np.sqrt(np.sum(model.actuators ** 2, axis=1)))
+    for index, point in enumerate(points):
+        basis = tangent_basis(model.manifold, point, rtol=rtol)[0]
+        result = derived_gosselin_angeles(model, point, basis, rtol=rtol)
+        if result.defined:  # back to the weighted coordinates: Ā = A H^-½ (eq. 7), B E^-½
+            direct[index] = singular_value_ratio(result.output_jacobian @ output_unroot)
+            inverse[index] = singular_value_ratio(result.input_jacobian @ input_unroot)
+    values = {"A": direct, "B": inverse, "A-1B": jacobian_ratio, "B-1A": jacobian_ratio.copy(), "lambda": lambdas}
+    resolved = model.mechanism.characteristic_length if length is None else float(length)
+    return ConditionNumbers(values, float(resolved), "singular_value_ratio",
+                            "derived relation: rows of [B A] orthonormal in the weighted coordinates "
+                            "(E^½ θ̇, H^½ ẋ with H = diag(L², 1, …) on rotations)")

@@ -1,0 +1,78 @@
+"""The pictures of the HTML report: each configuration drawn, and the loci of each design of one or two dof.
+
+For every classified configuration, :func:`configuration_picture` draws the
+mechanism there (:func:`classify.figures.drawing.draw_mechanism`) with the
+directions it loses at a singularity as arrows. For a mechanism of one or two
+degrees of freedom, :func:`loci_picture` traces its singularity loci from a
+configuration (:func:`classify.loci.trace_loci`, every traced point confirmed
+by the classification) and draws its C-space map with the loci overlaid
+(:func:`classify.figures.loci.draw_cspace_map`), in the actuated coordinates.
+Three or more dof: no loci (surfaces are not traced yet).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .html_report import Picture, figure_png
+
+__all__ = ["configuration_picture", "loci_picture", "LOCI_GRID"]
+
+#: grid points per axis of a report's 2-dof loci (coarse: the report draws every design; ``closedchain loci``
+#: takes ``--grid`` for finer)
+LOCI_GRID = (20, 20)
+
+
+def configuration_picture(mechanism, point, report, caption):
+    """The mechanism drawn at `point`, its lost directions as arrows where `report` finds it singular.
+
+    Parameters
+    ----------
+    mechanism : Mechanism
+    point : ndarray, shape=[point_size]
+    report : Report
+        The classification of `point`.
+    caption : str
+
+    Returns
+    -------
+    Picture
+    """
+    from .figures.drawing import draw_mechanism
+
+    kinds = ", ".join(report.kinds) or "regular"
+    figure = draw_mechanism(mechanism, point, report=report, title=f"{mechanism.name}: {kinds}")
+    return Picture(caption, figure_png(figure))
+
+
+def loci_picture(mechanism, start, survey, caption, seed=0):
+    """The C-space map of a 1- or 2-dof mechanism with its singularity loci, or None for another dof.
+
+    Parameters
+    ----------
+    mechanism : Mechanism
+    start : ndarray, shape=[point_size]
+        A configuration of M: a 2-dof grid follows its assembly branch.
+    survey : Survey
+        The mechanism's survey of M (its C-space dimension is the dof).
+    caption : str
+        The start of the caption; the coverage (pieces found, closed) is appended.
+    seed : int
+        Seed of the sampling of a 1-dof C-space.
+
+    Returns
+    -------
+    Picture or None
+    """
+    from .figures.loci import draw_cspace_map
+    from .loci import default_columns, trace_loci
+
+    dof = mechanism.ambient_dimension - survey.constraint_rank
+    if dof not in (1, 2):
+        return None
+    columns = default_columns(mechanism, dof)
+    loci = trace_loci(mechanism, start, columns=columns if dof == 2 else None, counts=LOCI_GRID,
+                      rng=np.random.default_rng(seed), survey=survey)
+    figure = draw_cspace_map(mechanism, loci, columns, title=f"{mechanism.name}: singularity loci")
+    found = ", ".join(f"{kind.replace('_', '-')}: {count} piece(s)" for kind, count in loci.coverage["pieces"].items())
+    return Picture(f"{caption} ({found})", figure_png(figure))

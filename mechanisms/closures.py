@@ -1,0 +1,190 @@
+"""The loop-closure file that goes beside a URDF (the convention of the Gepetto ``example-parallel-robots`` collection).
+
+A URDF describes a tree; the loops cut open to make it one are given in a
+small YAML file::
+
+    closed_loop: [[closedloop1_A, closedloop1_B]]   # frame pairs that must coincide
+    type: [6d]                                      # per pair: 6d (rigidly) or 3d (origins only: a ball joint)
+    name_mot: [mot1, mot2]                          # the actuated joints, exact URDF names
+    joint_name: [spherical_foot]                    # optional: URDF joints re-typed ...
+    joint_type: [SPHERICAL]                         # ... as SPHERICAL, FIXED, UJOINT_AB or CARDAN
+
+``type`` is optional (every pair ``6d``, as that collection's loader assumes)
+and is read case-insensitively (``3D`` = ``3d``); ``name_mot`` is optional
+(no actuated joint); ``joint_name`` and ``joint_type`` go together, one type
+per name. ``UJOINT_AB`` (``A``, ``B`` ∈ {X, Y, Z}, different) is a universal
+joint: a revolute about the joint frame's axis A, then one about its (moved)
+axis B; ``CARDAN`` is ``UJOINT_XY``. Every other key is refused, naming it.
+The file is read as :mod:`mechanisms.io` reads a mechanism file (YAML 1.2
+core schema, no anchors or tags, 1 MiB at most); nothing is evaluated.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+from .errors import MechanismError
+from .joints import check_name
+
+__all__ = ["Closures", "CLOSURE_TYPES", "JOINT_RETYPES", "read_closures", "closures_from_dict", "closures_to_dict",
+           "universal_axes"]
+
+#: the two kinds of closure: the frames coincide rigidly, or only their origins do
+CLOSURE_TYPES = ("6d", "3d")
+#: re-typings of a URDF joint besides ``UJOINT_AB``
+JOINT_RETYPES = ("SPHERICAL", "FIXED", "CARDAN")
+_KEYS = ("closed_loop", "type", "name_mot", "joint_name", "joint_type")
+_AXES = "XYZ"
+
+
+@dataclass(frozen=True)
+class Closures:
+    """The contents of a closures file.
+
+    Parameters
+    ----------
+    loops : tuple of (str, str)
+        Frame pairs that coincide on the closed robot.
+    types : tuple of str
+        ``"6d"`` or ``"3d"``, one per loop.
+    actuated : tuple of str
+        Names of the actuated joints.
+    retyped : dict
+        Joint name → ``"SPHERICAL"``, ``"FIXED"`` or ``"UJOINT_AB"`` (``CARDAN`` read as ``UJOINT_XY``).
+    """
+
+    loops: tuple = ()
+    types: tuple = ()
+    actuated: tuple = ()
+    retyped: dict = field(default_factory=dict)
+
+
+def universal_axes(joint_type):
+    """The axis indices (0, 1, 2 for X, Y, Z) of a ``UJOINT_AB`` re-typing, or None for another type."""
+    if len(joint_type) == 9 and joint_type.startswith("UJOINT_"):
+        first, second = joint_type[7], joint_type[8]
+        if first in _AXES and second in _AXES and first != second:
+            return _AXES.index(first), _AXES.index(second)
+    return None
+
+
+def _names(value, where):
+    if not isinstance(value, list):
+        raise MechanismError(f"{where}: expected a list of names, got {type(value).__name__}")
+    return tuple(check_name(item, f"{where}: item {index}") for index, item in enumerate(value))
+
+
+def closures_from_dict(data, source="closures file"):
+    """Validate the parsed contents of a closures file.
+
+    Parameters
+    ----------
+    data : object
+        What the YAML file holds (a mapping).
+    source : str
+        Starts every error message.
+
+    Returns
+    -------
+    Closures
+
+    Raises
+    ------
+    MechanismError
+        One line naming the field and item: an unknown key, a pair that is
+        not two frame names, a type other than 6d/3d, as many types as pairs
+        not given, a joint type not known, unequal ``joint_name`` and
+        ``joint_type`` lists, a name listed twice.
+    """
+    if data is None:
+        data = {}
+    if not isinstance(data, dict):
+        raise MechanismError(f"{source}: expected a mapping with keys {', '.join(_KEYS)}, got {type(data).__name__}")
+    for key in data:
+        if key not in _KEYS:
+            raise MechanismError(f"{source}: unknown key {key!r} (expected {', '.join(_KEYS)})")
+    loops = data.get("closed_loop") or []
+    if not isinstance(loops, list):
+        raise MechanismError(f"{source}: field 'closed_loop': expected a list of frame pairs, "
+                             f"got {type(loops).__name__}")
+    pairs = []
+    for index, pair in enumerate(loops):
+        where = f"{source}: field 'closed_loop': item {index}"
+        if not isinstance(pair, list) or len(pair) != 2:
+            raise MechanismError(f"{where}: expected a pair of frame names [A, B], got {pair!r}"[:300])
+        first, second = _names(pair, where)
+        if first == second:
+            raise MechanismError(f"{where}: the two frames are the same ({first!r})")
+        pairs.append((first, second))
+    types = data.get("type")
+    if types is None:
+        types = ["6d"] * len(pairs)
+    if not isinstance(types, list):
+        raise MechanismError(f"{source}: field 'type': expected a list of 6d/3d, got {type(types).__name__}")
+    if len(types) != len(pairs):
+        raise MechanismError(f"{source}: field 'type': expected {len(pairs)} types, one per closed_loop pair, "
+                             f"got {len(types)}")
+    checked = []
+    for index, kind in enumerate(types):
+        if not isinstance(kind, str) or kind.lower() not in CLOSURE_TYPES:
+            raise MechanismError(f"{source}: field 'type': item {index}: expected 6d or 3d, got {kind!r}"[:300])
+        checked.append(kind.lower())
+    actuated = _names(data.get("name_mot") or [], f"{source}: field 'name_mot'")
+    _no_duplicates(actuated, f"{source}: field 'name_mot'")
+    names = _names(data.get("joint_name") or [], f"{source}: field 'joint_name'")
+    joint_types = data.get("joint_type") or []
+    if not isinstance(joint_types, list):
+        raise MechanismError(f"{source}: field 'joint_type': expected a list, got {type(joint_types).__name__}")
+    if len(joint_types) != len(names):
+        raise MechanismError(f"{source}: field 'joint_type': expected {len(names)} types, one per joint_name, "
+                             f"got {len(joint_types)}")
+    _no_duplicates(names, f"{source}: field 'joint_name'")
+    retyped = {}
+    for index, (name, joint_type) in enumerate(zip(names, joint_types)):
+        if joint_type == "CARDAN":
+            joint_type = "UJOINT_XY"
+        if not isinstance(joint_type, str) or (joint_type not in JOINT_RETYPES and universal_axes(joint_type) is None):
+            raise MechanismError(f"{source}: field 'joint_type': item {index}: expected SPHERICAL, FIXED, CARDAN "
+                                 f"or UJOINT_AB (A, B two different axes of X, Y, Z), got {joint_type!r}"[:300])
+        retyped[name] = joint_type
+    return Closures(tuple(pairs), tuple(checked), actuated, retyped)
+
+
+def _no_duplicates(names, where):
+    seen = set()
+    for index, name in enumerate(names):
+        if name in seen:
+            raise MechanismError(f"{where}: item {index}: {name!r} is listed twice")
+        seen.add(name)
+
+
+def read_closures(path):
+    """Read and validate a closures file (YAML; see the module's note).
+
+    Parameters
+    ----------
+    path : str or os.PathLike
+
+    Returns
+    -------
+    Closures
+
+    Raises
+    ------
+    MechanismError
+        Starting with the path.
+    """
+    from ._text import _parse_yaml, _path, read_text_file
+
+    path = _path(path)
+    return closures_from_dict(_parse_yaml(read_text_file(path), str(path)), str(path))
+
+
+def closures_to_dict(closures):
+    """The plain data of a closures file (what :func:`closures_from_dict` reads back)."""
+    data = {"closed_loop": [list(pair) for pair in closures.loops], "type": list(closures.types),
+            "name_mot": list(closures.actuated)}
+    if closures.retyped:
+        data["joint_name"] = list(closures.retyped)
+        data["joint_type"] = list(closures.retyped.values())
+    return data

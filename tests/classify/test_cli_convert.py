@@ -1,0 +1,85 @@
+"""``closedchain classify/convert`` with URDF + closures: JSON with the import's account, contract-format files
+that classify the same, URDF written back, and one-line errors (exit 2)."""
+
+import json
+from pathlib import Path
+
+import pytest
+
+from classify.cli import main
+
+ROBOTS = Path(__file__).resolve().parents[1] / "data" / "robots"
+pytest.importorskip("yourdfpy")
+
+
+def run(arguments, capsys):
+    status = main(arguments)
+    captured = capsys.readouterr()
+    return status, captured.out, captured.err
+
+
+def robot(name):
+    return [str(ROBOTS / name / "robot.urdf"), "--closures", str(ROBOTS / name / "robot.yaml")]
+
+
+def test_classify_urdf_with_closures_json(capsys):
+    status, out, err = run(["classify", *robot("5bar_linkage_iso3d"), "--format", "json"], capsys)
+    assert status == 0, err
+    result = json.loads(out)
+    assert result["mechanism"] == "5bar_linkage_iso3d" and result["dof"] == 2 and result["kinds"] == []
+    assert (result["cspace"]["rank"], result["actuator"]["rank"]) == (6, 2)
+    assert result["import"]["assembly_residual"] < 1e-9 and result["import"]["loops"] == 1
+    assert result["source"]["closures"].endswith("robot.yaml")
+
+
+def test_classify_urdf_text_states_the_fixed_base_and_the_assembly(capsys):
+    status, out, _ = run(["classify", *robot("5bar_linkage")], capsys)
+    assert status == 0
+    assert "imported: base link 'built' fixed as the ground" in out
+    assert "imported: assembled from the zero configuration: moved by" in out
+    assert "dof m = 3" in out and "idle freedoms: 1" in out
+
+
+def test_convert_writes_a_contract_file_that_classifies_the_same(tmp_path, capsys):
+    target = tmp_path / "five.yaml"
+    status, out, err = run(["convert", *robot("5bar_linkage"), "--write", str(target)], capsys)
+    assert status == 0, err and "wrote" in out
+    status, direct, _ = run(["classify", *robot("5bar_linkage"), "--format", "json"], capsys)
+    status, converted, _ = run(["classify", str(target), "--format", "json"], capsys)
+    direct, converted = json.loads(direct), json.loads(converted)
+    for key in ("dof", "kinds", "singular"):
+        assert direct[key] == converted[key]
+    for kind in ("cspace", "actuator"):
+        assert direct[kind]["rank"] == converted[kind]["rank"]
+    from mechanisms.io import read
+
+    assert "base link 'built' fixed" in read(target).description
+
+
+def test_convert_catalogue_entry_to_urdf_and_back(tmp_path, capsys):
+    target = tmp_path / "five.urdf"
+    status, out, err = run(["convert", "five-bar", "--write", str(target)], capsys)
+    assert status == 0, err
+    assert (tmp_path / "five.yaml").exists()
+    status, out, err = run(["classify", str(target), "--closures", str(tmp_path / "five.yaml"), "--format", "json"],
+                           capsys)
+    assert status == 0, err
+    result = json.loads(out)
+    status, catalogue, _ = run(["classify", "five-bar", "--format", "json"], capsys)
+    catalogue = json.loads(catalogue)
+    assert (result["dof"], result["cspace"]["rank"], result["actuator"]["rank"]) == \
+        (catalogue["dof"], catalogue["cspace"]["rank"], catalogue["actuator"]["rank"])
+    assert result["import"]["assembly_distance"] < 1e-9  # exported at home: the zero configuration closes
+
+
+@pytest.mark.parametrize("arguments, message", [
+    (["classify", str(ROBOTS / "5bar_linkage" / "robot.urdf"), "--closures",
+      str(ROBOTS / "5bar_linkage_iso3d" / "robot.yaml")], "unknown frame 'closedloop3D_1B'"),
+    (["classify", "five-bar", "--closures", "x.yaml"], "--closures: applies to a URDF input"),
+    (["convert", "five-bar", "--write", "out.txt"], "--write: expected"),
+    (["classify", *robot("5bar_linkage"), "--param", "a=1"], "--param: does not apply"),
+])
+def test_bad_input_exits_2_with_one_line(arguments, message, capsys):
+    status, out, err = run(arguments, capsys)
+    assert status == 2
+    assert message in err and err.count("\n") == 1 and "Traceback" not in err
