@@ -520,6 +520,10 @@ def run(arguments, out):
     check_length_scale(arguments.length_scale)
     if arguments.jobs is not None and arguments.jobs < 1:
         raise InputError(f"--jobs: expected a count ≥ 1, got {arguments.jobs}")
+    for option, path in (("--output", arguments.output), ("--html", arguments.html)):
+        if path and (Path(path).is_dir() or not Path(path).resolve().parent.is_dir()):
+            raise InputError(f"{option}: cannot write {printable(path)}: "
+                             + ("it is a folder" if Path(path).is_dir() else "its folder does not exist"))
     tasks, order = _tasks(arguments)
     position = {key: index for index, key in enumerate(order)}
     rows = sorted(run_tasks(tasks, arguments.seed, arguments.length_scale, arguments.jobs),
@@ -532,3 +536,5 @@ def run(arguments, out):
         return
     write_output(arguments.output, text + "\n", "--output")
     out.write(report_summary(rows, arguments.output) + "\n")
+    if arguments.html:
+        out.write(f"the same report as a page with pictures (drawings, loci) is in {printable(arguments.html)}\n")
