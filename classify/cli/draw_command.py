@@ -14,7 +14,7 @@ ones on 3-D axes. Prints one line: the file written and the kinds found.
 from __future__ import annotations
 
 from ..text import printable
-from ._common import InputError, common_options, displacements, entry_options, source
+from ._common import InputError, closures_option, common_options, displacements, entry_options, source
 
 __all__ = ["add_parser", "run", "FIGURE_SUFFIXES", "KIND_NAMES"]
 
@@ -27,8 +27,10 @@ KIND_NAMES = {"actuator": "actuator", "end_effector": "end_effector", "end-effec
 
 def add_parser(commands):
     parser = commands.add_parser("draw", help="draw a mechanism at a configuration (links, joints, lost directions)")
-    parser.add_argument("file", metavar="FILE|NAME", help="mechanism file (YAML or JSON) or catalogue name")
+    parser.add_argument("file", metavar="FILE|NAME", help="mechanism file (YAML or JSON), URDF (with --closures), "
+                                                          "MJCF (.xml) or catalogue name")
     entry_options(parser)
+    closures_option(parser)
     parser.add_argument("--at", default=None, metavar="JSON",
                         help="joint displacements from home, as a JSON object or @file.json (as `classify --at`)")
     parser.add_argument("--project", action="store_true",

@@ -37,3 +37,16 @@ def test_draw_refuses_bad_input(tmp_path):
     assert status == 2 and "--at" in err
     status, _, err = run(["draw", "five-bar", "--out", str(tmp_path / "missing" / "x.png")])
     assert status == 2 and "--out" in err
+
+
+def test_draw_an_imported_urdf_with_its_closures(tmp_path):
+    from pathlib import Path
+
+    robot = Path(__file__).parent.parent / "data" / "robots" / "5bar_linkage_iso3d"
+    path = tmp_path / "robot.svg"
+    status, out, err = run(["draw", str(robot / "robot.urdf"), "--closures", str(robot / "robot.yaml"),
+                            "--out", str(path)])
+    assert status == 0, err
+    assert "5bar_linkage_iso3d" in out
+    drawing = path.read_text()
+    assert drawing.count('id="actuated:') == 2  # the two motors named in the closures file
