@@ -30,7 +30,7 @@ BRANCH_COLOURS = ("tab:green", "tab:orange", "tab:cyan", "tab:olive", "tab:pink"
 _MODE_COLOURS = {(1, 1): "#c6dbef", (1, -1): "#fdd0a2", (-1, 1): "#c7e9c0", (-1, -1): "#dadaeb"}
 
 
-def _broken(values, names, mechanism_coordinates):
+def _broken(values, mechanism_coordinates):
     """The line with NaN rows inserted where a wrapped angle jumps by more than π."""
     if len(values) < 2 or not mechanism_coordinates:
         return values
@@ -38,11 +38,13 @@ def _broken(values, names, mechanism_coordinates):
     return np.insert(values, jumps + 1, np.nan, axis=0) if jumps.size else values
 
 
-def _axes(figure_size, dimension):
+def _axes(mechanism, coordinates):
+    """New axes for loci shown in `coordinates`: 3-D for three joint coordinates or a spatial end-effector."""
     from matplotlib.figure import Figure
 
-    figure = Figure(figsize=figure_size)
-    return figure.add_subplot(projection="3d" if dimension == 3 else None)
+    joints = not isinstance(coordinates, str)
+    three = (joints and len(coordinates) == 3) or (not joints and mechanism.space == "spatial")
+    return Figure(figsize=(6, 5.5)).add_subplot(projection="3d" if three else None)
 
 
 def _line(axes, values, **style):
@@ -73,9 +75,7 @@ def draw_loci(mechanism, loci, coordinates, axes=None, title=None):
 
     joints = not isinstance(coordinates, str)
     names = None
-    if axes is None:
-        dimension = 3 if (not joints and mechanism.space == "spatial") or (joints and len(coordinates) == 3) else 2
-        axes = _axes((6, 5.5), dimension)
+    axes = _axes(mechanism, coordinates) if axes is None else axes
     labelled = set()
     for index, piece in enumerate(loci.pieces):
         values, names = locus_coordinates(mechanism, piece.points, coordinates)
@@ -87,7 +87,7 @@ def draw_loci(mechanism, loci, coordinates, axes=None, title=None):
                          label=None if piece.kind in labelled else f"{piece.kind.replace('_', '-')} locus")
             if len(values) == 1:
                 style.update(linestyle="none", marker="o", markersize=8)
-            _line(axes, _broken(values, names, joints), **style)
+            _line(axes, _broken(values, joints), **style)
         labelled.add(piece.kind)
     if names is None:
         _, names = locus_coordinates(mechanism, loci.samples[:1], coordinates) if len(loci.samples) else (None, ())
@@ -113,12 +113,10 @@ def draw_cspace_map(mechanism, loci, coordinates, axes=None, title=None):
     from ..loci import locus_coordinates
 
     joints = not isinstance(coordinates, str)
-    if axes is None:
-        dimension = 3 if (not joints and mechanism.space == "spatial") or (joints and len(coordinates) == 3) else 2
-        axes = _axes((6, 5.5), dimension)
+    axes = _axes(mechanism, coordinates) if axes is None else axes
     for index, branch in enumerate(loci.branches):
         values, _ = locus_coordinates(mechanism, branch.points, coordinates)
-        _line(axes, _broken(values, None, joints), color=BRANCH_COLOURS[index % len(BRANCH_COLOURS)], linewidth=5,
+        _line(axes, _broken(values, joints), color=BRANCH_COLOURS[index % len(BRANCH_COLOURS)], linewidth=5,
               alpha=0.5, gid=f"branch:{index}", label=f"branch {index + 1}" + (" (closed)" if branch.closed else ""))
     if not loci.branches and len(loci.samples):
         values, _ = locus_coordinates(mechanism, loci.samples, coordinates)
