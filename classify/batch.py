@@ -140,7 +140,9 @@ class Classifications:
         return [self.report(index) for index in range(len(self))]
 
     def rows(self):
-        """One JSON-ready dict per configuration: kinds, ranks, margins, λ's and the degeneracy verdict."""
+        """One JSON-ready dict per configuration: kinds, ranks, margins, λ's, the degeneracy verdict, and
+        ``architecture_singular``, ``idle_freedoms``, ``moving_idle_freedoms`` as in
+        :meth:`classify.report.Report.to_dict` (``architecture_singular`` is ``moving_idle_freedoms > 0``)."""
         shown = [kind for kind in KINDS if kind != "end_effector" or self.model.end_effector_dimension > 0]
         ranks = {kind: self.ranks[kind].tolist() for kind in shown}
         expected = {kind: self.expected_ranks[kind].tolist() for kind in shown}
@@ -149,6 +151,7 @@ class Classifications:
         conditions = np.where(np.isnan(self.condition_number), None, self.condition_number).tolist()
         degeneracy = [None if value < 0 else bool(value) for value in self.degenerate.tolist()]
         architecture = (self.moving_idle_freedoms > 0).tolist()
+        idle, moving = self.idle_freedoms.tolist(), self.moving_idle_freedoms.tolist()
         singular = self.singular.tolist()
         dof = self.dof.tolist()
         return [{
@@ -163,6 +166,8 @@ class Classifications:
             "condition_number": conditions[index],
             "degenerate": degeneracy[index],
             "architecture_singular": architecture[index],
+            "idle_freedoms": idle[index],
+            "moving_idle_freedoms": moving[index],
         } for index in range(len(self))]
 
     def to_dict(self):
@@ -204,7 +209,7 @@ def classify_many(mechanism, points, survey=None, rtol=DEFAULT_RTOL, length_scal
     rtol : float
         Relative cut of every rank decision.
     length_scale : float, optional
-        L of the SE(2)/SE(3) end-effector metric (a Mechanism only).
+        L of the SE(2)/SE(3) and tool (ℝ³ × S²) end-effector metrics (a Mechanism only).
     chunk : int
         Configurations per chunk of array work (memory grows with it linearly).
     progress : bool

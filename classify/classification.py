@@ -6,10 +6,17 @@ three kinds"):
 * C-space: ``rank DΦ(p) < r``, r the rank of DΦ on M near p;
 * actuator: ``rank G(p) < m − i``, i the idle freedoms: m minus the largest
   rank on M of the stacked map (E^½Dπ T; H^½Df T) (of G without
-  end-effector). A locked-actuator freedom that moves the end-effector is
-  not idle: where there is one everywhere on M, the design is
-  architecturally singular and every configuration is an actuator
-  singularity (Gosselin & Angeles 1990, eq. 87), flagged in the report;
+  end-effector). An idle freedom is a direction of ker G that is also in
+  ker J, generically on M: it moves neither an actuator nor the
+  end-effector (a leg's spin between two ball joints; the spin of a 5-SPU's
+  tool about its own axis once the end-effector is ``output: tool``). A
+  locked-actuator freedom that moves the end-effector (a direction of
+  ker G outside ker J, generically on M; there are
+  ``largest rank of the stacked map − largest rank of G`` of them) is not
+  idle: where there is one everywhere on M, the design is architecturally
+  singular and every configuration is an actuator singularity (Gosselin &
+  Angeles 1990, eq. 87), flagged in the report (``architecture_singular``,
+  ``moving_idle_freedoms``);
 * end-effector: ``rank J(p) < min(dim N, m, largest rank of J on M)``.
 
 All ranks come from :func:`manifold.numerical_rank` on dimensionless maps
@@ -62,8 +69,9 @@ def classify(mechanism, point, survey=None, rng=None, rtol=DEFAULT_RTOL, length_
     rtol : float
         Relative cut of every rank decision (:func:`manifold.numerical_rank`).
     length_scale : float, optional
-        L of the SE(2)/SE(3) end-effector metric (default the characteristic
-        length). Only for a Mechanism: a Model carries its own H.
+        L of the SE(2)/SE(3) and tool (ℝ³ × S²) end-effector metrics
+        (default the characteristic length). Only for a Mechanism: a Model
+        carries its own H.
 
     Returns
     -------
@@ -169,8 +177,9 @@ def classify(mechanism, point, survey=None, rng=None, rtol=DEFAULT_RTOL, length_
     if moving:
         notes.append(f"architecture singularity: {moving} locked-actuator freedom(s) move the end-effector at "
                      f"every configuration of M (G has rank at most {survey.actuator_rank} on M), so every "
-                     f"configuration is an actuator singularity — unless the task ignores that motion (e.g. the "
-                     f"spin of an axisymmetric tool)")
+                     f"configuration is an actuator singularity — unless the task ignores that motion: if it is "
+                     f"the spin of an axisymmetric tool, make the end-effector 'output: tool' (point and axis), "
+                     f"which that spin does not move")
 
     return Report(
         mechanism=model.name, dof=dof, ambient_dimension=k, coordinate_names=names,

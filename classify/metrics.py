@@ -83,22 +83,29 @@ def end_effector_metric(mechanism, length_scale=None):
     ----------
     mechanism : Mechanism
     length_scale : float, optional
-        L of the left-invariant metric on SE(2)/SE(3); default the
+        L of the left-invariant metric on SE(2)/SE(3) and of the metric
+        ``|dx|² + L²|du|²`` on ℝ³ × S² (a ``tool`` output); default the
         mechanism's characteristic length. Unused for other outputs.
 
     Returns
     -------
     H : ndarray, shape=[n, n]
+        Pose: ``diag(L² I, I)`` (rotation rows first); tool:
+        ``diag(I₃, L² I₂)`` (point rows first, then the direction in an
+        orthonormal basis of u^⊥, :func:`mechanisms.kinematics.tool_basis`).
     """
     compiled = kinematics_of(mechanism)
     n = end_effector_dimension(mechanism)
     metric = np.eye(n)
-    if compiled.output == "pose":
+    if compiled.output in ("pose", "tool"):
         scale = compiled.length if length_scale is None else float(length_scale)
         if not np.isfinite(scale) or scale <= 0:
             raise ValueError(f"Expected a positive finite length scale, got {length_scale!r}")
-        rotation_rows = 1 if compiled.space == "planar" else 3
-        metric[:rotation_rows, :rotation_rows] *= scale ** 2
+        if compiled.output == "tool":
+            metric[3:, 3:] *= scale ** 2
+        else:
+            rotation_rows = 1 if compiled.space == "planar" else 3
+            metric[:rotation_rows, :rotation_rows] *= scale ** 2
     return metric
 
 

@@ -85,7 +85,7 @@ def model_of(mechanism, length_scale=None):
     ----------
     mechanism : Mechanism
     length_scale : float, optional
-        L of the SE(2)/SE(3) end-effector metric (default the characteristic length).
+        L of the SE(2)/SE(3) and tool (ℝ³ × S²) end-effector metrics (default the characteristic length).
     """
     models = mechanism.__dict__.setdefault("_models", _Models())
     key = None if length_scale is None else float(length_scale)

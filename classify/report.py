@@ -168,13 +168,21 @@ class Report:
     manipulability : Manipulability or None
     second_order : SecondOrderResult or None
     idle_freedoms : int
+        i: the directions of T_pM that, generically on M, move neither an
+        actuator nor the end-effector (ker G ∩ ker J); m minus the largest
+        rank on M of the stacked map (E^½Dπ T; H^½Df T). They are not
+        counted as actuator singularity: G is expected to have rank m − i.
     survey : dict
     notes : tuple of str
     moving_idle_freedoms : int
         How many locked-actuator freedoms move the end-effector at every
-        configuration of M (:attr:`classify.survey.Survey.moving_idle_freedoms`).
-        They are not idle (docs/design.rst, "The three kinds"): where there is
-        one, the design is architecturally singular.
+        configuration of M (:attr:`classify.survey.Survey.moving_idle_freedoms`):
+        the largest rank of the stacked map minus the largest rank of G, i.e.
+        the directions of ker G outside ker J, generically on M. They are not
+        idle (docs/design.rst, "The three kinds"): where there is one, the
+        design is architecturally singular (:attr:`architecture_singular`;
+        ``architecture_singular`` and ``actuator.moving_idle_freedoms`` in
+        :meth:`to_dict`).
     source : dict or None
         Where the configuration comes from, for the reader (set by the
         command line): ``{"catalogue": NAME, "parameters": {...},
@@ -262,6 +270,7 @@ class Report:
             "singular": self.singular,
             "kinds": list(self.kinds),
             "architecture_singular": self.architecture_singular,
+            "moving_idle_freedoms": int(self.moving_idle_freedoms),
             "cspace": self.cspace.to_dict(names),
             "actuator": actuator,
             "end_effector": None if self.end_effector is None else self.end_effector.to_dict(names),
@@ -313,7 +322,8 @@ class Report:
                          f"end-effector; not counted as singular)")
         if self.architecture_singular:
             lines.append(f"      ARCHITECTURE SINGULARITY: {self.moving_idle_freedoms} locked-actuator "
-                         f"freedom(s) move the end-effector at every configuration of M")
+                         f"freedom(s) move the end-effector at every configuration of M: the design has an "
+                         f"architecture singularity (every configuration is an actuator singularity)")
         if self.second_order is not None:
             second = self.second_order
             lines.append(f"      second order: min |Q(v)| = {second.smallest:.3g} "

@@ -21,7 +21,9 @@ about its first then its second axis; a ``C`` turning then sliding). A
 planar mechanism is drawn in the plane z = 0 (axes +z), a spherical one about
 the origin. The URDF's zero configuration is the mechanism's home, so the
 importer finds it closed. URDF link and joint names are the mechanism's;
-inertias are not written (kinematics only).
+inertias are not written (kinematics only). URDF has no end-effector: none
+is written, whatever its output (a ``tool``'s point and ``axis`` included);
+the mechanism file (:mod:`mechanisms.io`) keeps it.
 """
 
 from __future__ import annotations

@@ -11,10 +11,17 @@ The schema is the contract of docs/design.rst, "Mechanism file"::
     end_effector:            # optional
       link: proximal1
       point: [1.0, 1.0]      # planar/spatial; not for spherical
-      output: position       # position | orientation | pose (default position)
+      output: position       # position | orientation | pose | tool (default position)
 
 Additive extensions (readers that do not know them must reject them, as they
 reject every unknown key):
+
+``output: tool`` and ``axis`` (in ``end_effector``, spatial only)
+    An axisymmetric tool: ``point`` is the tool point and ``axis`` (3 finite
+    numbers, not zero, in the ground frame at home, fixed in the link) the
+    direction of its axis; f is the point and the unit direction, in
+    ℝ³ × S². ``axis`` is required by a ``tool`` output and refused by every
+    other output.
 
 ``weight`` (per joint, optional)
     A positive number, default 1: the weight of the joint's coordinates in the
@@ -96,7 +103,7 @@ from ._text import (  # the limits, read_text_file, write_text_file and parse_js
 _TOP_LEVEL_FIELDS = ("name", "space", "ground", "joints", "end_effector",
                      "description", "configurations")
 _JOINT_FIELDS = ("name", "type", "links", "point", "axis", "axes", "actuated", "weight")
-_END_EFFECTOR_FIELDS = ("link", "point", "output")
+_END_EFFECTOR_FIELDS = ("link", "point", "output", "axis")
 _FORMATS = {".json": "json", ".yaml": "yaml", ".yml": "yaml"}
 #: joint type -> (number of displacement values or None for a single number, what they are)
 _DISPLACEMENTS = {
@@ -202,6 +209,8 @@ def mechanism_to_dict(mechanism):
             entry["point"] = list(end_effector.point)
         if end_effector.output != "position":
             entry["output"] = end_effector.output
+        if end_effector.axis is not None:
+            entry["axis"] = list(end_effector.axis)
         data["end_effector"] = entry
     return data
 
@@ -405,15 +414,16 @@ def _joint_from_dict(data, index):
 def _end_effector_from_dict(data):
     where = "end_effector"
     if not isinstance(data, Mapping):
-        raise MechanismError(f"field 'end_effector': expected a mapping with 'link', 'point' "
-                             f"and 'output', got {_describe(data)}")
+        raise MechanismError(f"field 'end_effector': expected a mapping with 'link', 'point', "
+                             f"'output' (and 'axis' for a tool), got {_describe(data)}")
     _check_keys(data, _END_EFFECTOR_FIELDS, where)
     if "link" not in data:
         raise MechanismError(f"{where}: field 'link': missing")
     link = _string(data["link"], f"{where}: field 'link'")
     point = _numbers(data["point"], f"{where}: field 'point'") if "point" in data else None
     output = _string(data["output"], f"{where}: field 'output'") if "output" in data else "position"
-    return EndEffector(link, point, output)
+    axis = _numbers(data["axis"], f"{where}: field 'axis'") if "axis" in data else None
+    return EndEffector(link, point, output, axis)
 
 
 def _configurations_from_dict(data, mechanism):

@@ -37,7 +37,7 @@ __all__ = [
 ]
 
 SPACES = ("planar", "spherical", "spatial")
-OUTPUTS = ("position", "orientation", "pose")
+OUTPUTS = ("position", "orientation", "pose", "tool")
 #: joint type -> (space -> required geometric fields)
 JOINT_TYPES = {
     "R": {"planar": ("point",), "spherical": ("axis",), "spatial": ("point", "axis")},
@@ -173,24 +173,34 @@ class Joint:
 
 @dataclass(frozen=True)
 class EndEffector:
-    """The end-effector: a frame on a link.
+    """The end-effector: a frame on a link, or an axisymmetric tool on it.
 
     Parameters
     ----------
     link : str
     point : tuple of float, optional
-        Origin of the frame at home (planar/spatial; not for spherical).
-    output : {"position", "orientation", "pose"}
+        Origin of the frame at home (planar/spatial; not for spherical); for
+        ``tool``, a point of the tool's axis (the tool point).
+    output : {"position", "orientation", "pose", "tool"}
         What the end-effector map f returns: the point (ℝ² / ℝ³), the link's
-        orientation (SO(2) / SO(3)), or both (SE(2) / SE(3)).
+        orientation (SO(2) / SO(3)), both (SE(2) / SE(3)), or, for a spatial
+        mechanism, the tool point and the unit direction of `axis`
+        (ℝ³ × S², dimension 5: an axisymmetric tool, whose spin about its own
+        axis is not an end-effector motion).
+    axis : tuple of float, optional
+        For ``tool`` only (and required by it): the direction of the tool's
+        axis at home, 3 numbers in the ground frame, fixed in the link. Need
+        not be unit; its sign does not matter to any verdict.
     """
 
     link: str
     point: Optional[tuple] = None
     output: str = "position"
+    axis: Optional[tuple] = None
 
     def __post_init__(self):
         object.__setattr__(self, "point", _vector(self.point, "end_effector: field 'point'"))
+        object.__setattr__(self, "axis", _vector(self.axis, "end_effector: field 'axis'"))
 
 
 def joint_factors(joint):
@@ -289,6 +299,16 @@ def check_end_effector(end_effector, space, links):
     if end_effector.output not in OUTPUTS:
         raise MechanismError(f"{where}: field 'output': expected one of {', '.join(OUTPUTS)}, "
                              f"got {end_effector.output!r}")
+    if end_effector.output != "tool" and end_effector.axis is not None:
+        raise MechanismError(f"{where}: field 'axis': only used by a 'tool' output, not by "
+                             f"{end_effector.output!r}")
+    if end_effector.output == "tool":
+        if space != "spatial":
+            raise MechanismError(f"{where}: field 'output': a 'tool' output needs a spatial mechanism, "
+                                 f"not a {space} one")
+        _check_vector(end_effector.point, 3, f"{where}: field 'point'")
+        _check_direction(end_effector.axis, 3, f"{where}: field 'axis'")
+        return
     if space == "spherical":
         if end_effector.point is not None:
             raise MechanismError(f"{where}: field 'point': not used by a spherical mechanism")

@@ -62,7 +62,7 @@ __all__ = [
     "constraint", "constraint_jacobian", "closure_and_jacobian", "constraint_hessian", "closes",
     "constraint_pattern", "constraint_jacobian_entries", "constraint_hessian_form",
     "end_effector", "end_effector_jacobian", "end_effector_hessian", "end_effector_chart",
-    "end_effector_dimension", "actuator_jacobian", "link_pose",
+    "end_effector_dimension", "actuator_jacobian", "link_pose", "tool_basis",
 ]
 
 
@@ -102,6 +102,7 @@ class Kinematics:
     end_effector_point: Optional[np.ndarray]
     output: Optional[str]
     loop_groups: tuple = ()
+    end_effector_axis: Optional[np.ndarray] = None  # the unit tool axis at home (output "tool")
     pattern: Optional[JacobianPattern] = None
     point_size: int = 0
     link_groups: dict = None  # link name -> its chain's ChainGroup, built on first use
@@ -140,6 +141,8 @@ def kinematics_of(mechanism):
         end_effector_point=None if end_effector is None or end_effector.point is None
         else np.asarray(end_effector.point, dtype=float),
         output=None if end_effector is None else end_effector.output,
+        end_effector_axis=None if end_effector is None or end_effector.axis is None
+        else np.asarray(end_effector.axis, dtype=float) / np.linalg.norm(end_effector.axis),
         loop_groups=loop_groups, pattern=chains.loop_pattern(mechanism.space, loop_groups, len(loops), ambient.dim),
         point_size=ambient.point_size, link_groups={},
     )
@@ -331,7 +334,7 @@ def actuator_jacobian(mechanism):
 _OUTPUT_DIMENSION = {
     ("planar", "position"): 2, ("planar", "orientation"): 1, ("planar", "pose"): 3,
     ("spherical", "orientation"): 3,
-    ("spatial", "position"): 3, ("spatial", "orientation"): 3, ("spatial", "pose"): 6,
+    ("spatial", "position"): 3, ("spatial", "orientation"): 3, ("spatial", "pose"): 6, ("spatial", "tool"): 5,
 }
 
 
@@ -365,12 +368,13 @@ def _require_end_effector(mechanism):
 
 
 def end_effector(mechanism, point):
-    """f(point): the position, shape=[..., d], or the frame matrix, shape=[..., n, n].
+    """f(point): the position, shape=[..., d], the frame matrix, shape=[..., n, n], or the tool, shape=[..., 6].
 
     For ``orientation`` and ``pose`` outputs the value is the homogeneous
     matrix of the end-effector frame (orientation of its link, origin at the
-    end-effector point); local coordinates are given by
-    :func:`end_effector_chart`.
+    end-effector point). For ``tool`` it is ``(x, u)``: the tool point x ∈ ℝ³
+    and the unit direction u ∈ S² of the tool's axis, both carried by the
+    link's pose. Local coordinates are given by :func:`end_effector_chart`.
     """
     compiled = _require_end_effector(mechanism)
     point = _as_points(mechanism, point)
@@ -378,7 +382,47 @@ def end_effector(mechanism, point):
     if compiled.output == "position":
         size = groups.MATRIX_SIZE[compiled.space]
         return (product @ _offset(compiled))[..., : size - 1, size - 1]
+    if compiled.output == "tool":
+        carried = product @ _tool_vectors(compiled)  # [..., 4, 2]: the point and the axis
+        return np.concatenate([carried[..., :3, 0], carried[..., :3, 1]], axis=-1)
     return product @ _offset(compiled)
+
+
+def _tool_vectors(compiled):
+    """The tool point and axis at home as homogeneous columns ``[[x, a], [1, 0]]``, shape=[4, 2]."""
+    vectors = np.zeros((4, 2))
+    vectors[:3, 0], vectors[3, 0] = compiled.end_effector_point, 1.0
+    vectors[:3, 1] = compiled.end_effector_axis
+    return vectors
+
+
+def tool_basis(direction):
+    """An orthonormal basis (e₁, e₂) of the plane u^⊥, the tangent plane of S² at u: the chart of a
+    ``tool`` output's direction.
+
+    e₁ is the unit projection onto u^⊥ of the coordinate axis least aligned
+    with u, e₂ = u × e₁. Nothing computed from a ``tool`` output depends on
+    this choice: another orthonormal basis turns the direction rows of Df by
+    a 2 × 2 rotation (or reflection), which H = diag(I₃, L² I₂) does not see.
+    Reversing u keeps e₁ and reverses e₂.
+
+    Parameters
+    ----------
+    direction : array_like, shape=[..., 3]
+        Unit vectors u.
+
+    Returns
+    -------
+    ndarray, shape=[..., 2, 3]
+        The rows e₁, e₂.
+    """
+    direction = np.asarray(direction, dtype=float)
+    least = np.argmin(np.abs(direction), axis=-1)
+    axis = np.zeros(direction.shape)
+    np.put_along_axis(axis, least[..., None], 1.0, axis=-1)
+    first = axis - np.sum(axis * direction, axis=-1, keepdims=True) * direction
+    first = first / np.linalg.norm(first, axis=-1, keepdims=True)
+    return np.stack([first, np.cross(direction, first)], axis=-2)
 
 
 def end_effector_chart(mechanism, base_value, value):
@@ -386,16 +430,36 @@ def end_effector_chart(mechanism, base_value, value):
 
     Position outputs: the difference. Orientation and pose outputs: the twist
     coordinates of ``log(F₀⁻¹ F)`` (rotation components only for orientation).
+    Tool outputs ``(x, u)``: ``(x − x₀, E(u₀) log_{u₀} u)``, where
+    ``log_{u₀} u = θ (u − cos θ u₀) / sin θ`` (θ the angle from u₀ to u) is
+    the Riemannian logarithm of S² and E(u₀) the rows of :func:`tool_basis`
+    — shape=[..., 5]; ``|chart|²`` with the direction part times L² is the
+    squared distance of the metric ``|dx|² + L²|du|²`` to second order.
     """
     compiled = _require_end_effector(mechanism)
     if compiled.output == "position":
         return np.asarray(value) - np.asarray(base_value)
+    if compiled.output == "tool":
+        return _tool_chart(np.asarray(base_value, dtype=float), np.asarray(value, dtype=float))
     from scipy.linalg import logm
 
     relative = groups.inverse(compiled.space, np.asarray(base_value)) @ np.asarray(value)
     flat = relative.reshape((-1,) + relative.shape[-2:])
     logs = np.array([np.real(logm(matrix)) for matrix in flat]).reshape(relative.shape)
     return groups.vee(compiled.space, logs)[..., _twist_components(compiled)]
+
+
+def _tool_chart(base_value, value):
+    """``(x − x₀, E(u₀) log_{u₀} u)`` for tool values ``(x₀, u₀)``, ``(x, u)``, shape=[..., 5]."""
+    base_direction, direction = base_value[..., 3:], value[..., 3:]
+    cosine = np.clip(np.sum(base_direction * direction, axis=-1, keepdims=True), -1.0, 1.0)
+    normal = direction - cosine * base_direction
+    sine = np.linalg.norm(normal, axis=-1, keepdims=True)
+    angle = np.arctan2(sine, cosine)
+    factor = np.divide(angle, sine, out=np.ones_like(sine), where=sine > 1e-300)  # θ / sin θ → 1
+    logarithm = factor * normal
+    coordinates = np.einsum("...ij,...j->...i", tool_basis(base_direction), logarithm)
+    return np.concatenate([value[..., :3] - base_value[..., :3], coordinates], axis=-1)
 
 
 def _end_effector_expansion(mechanism, point, order):
@@ -413,7 +477,8 @@ def end_effector_jacobian(mechanism, point):
     """Df(point) in the chart of N at f(point), shape=[..., n, k].
 
     Position outputs: ∂(T x)/∂v. Orientation and pose outputs: body twists
-    ``vee(F⁻¹ ∂F/∂v)``.
+    ``vee(F⁻¹ ∂F/∂v)``. Tool outputs: ∂(T x)/∂v, then ``E(u) ∂(T a)/∂v``
+    (the rate ω × u of the direction in the basis :func:`tool_basis` of u^⊥).
     """
     compiled, point, group, product, first, _ = _end_effector_expansion(mechanism, point, 1)
     jacobian = np.zeros(point.shape[:-1] + (end_effector_dimension(mechanism), compiled.ambient.dim))
@@ -426,9 +491,40 @@ def _end_effector_columns(compiled, product, derivative):
     offset = _offset(compiled)
     if compiled.output == "position":
         return (derivative @ offset)[..., : size - 1, size - 1]
+    if compiled.output == "tool":
+        return _tool_rows(compiled, product, derivative)
     frame = product @ offset
     body = groups.inverse(compiled.space, frame)[..., None, :, :] @ derivative @ offset
     return groups.vee(compiled.space, body)[..., _twist_components(compiled)]
+
+
+def _tool_rows(compiled, product, derivative):
+    """Derivatives of the tool point and direction in the chart of :func:`end_effector_chart`.
+
+    With ``(x, u)`` the carried columns of :func:`_tool_vectors`: the point
+    rows are ``∂x``, the direction rows ``E(u) ∂u`` — on a first derivative
+    ``∂u = ω × u``, whose component along u is zero; on a second
+    derivative the chart's ``θ / sin θ = 1 + O(θ²)`` adds nothing, so the
+    same projection holds.
+
+    Parameters
+    ----------
+    product : ndarray, shape=[..., 4, 4]
+        The link's pose.
+    derivative : ndarray, shape=[..., C, 4, 4] or [..., C, C, 4, 4]
+        First or second derivatives of the pose.
+
+    Returns
+    -------
+    ndarray, shape=[..., C, 5] or [..., C, C, 5]
+    """
+    vectors = _tool_vectors(compiled)
+    basis = tool_basis((product @ vectors)[..., :3, 1])  # [..., 2, 3]
+    carried = (derivative @ vectors)[..., :3, :]  # [..., (C,) C, 3, 2]
+    extra = derivative.ndim - product.ndim
+    basis = basis.reshape(basis.shape[:-2] + (1,) * extra + basis.shape[-2:])
+    directions = np.einsum("...ij,...j->...i", basis, carried[..., 1])
+    return np.concatenate([carried[..., 0], directions], axis=-1)
 
 
 def end_effector_hessian(mechanism, point):
@@ -441,6 +537,8 @@ def end_effector_hessian(mechanism, point):
     if compiled.output == "position":
         size = groups.MATRIX_SIZE[compiled.space]
         values = (second @ _offset(compiled))[..., : size - 1, size - 1]  # [..., C, C, n]
+    elif compiled.output == "tool":
+        values = _tool_rows(compiled, product, second)  # [..., C, C, 5]
     else:
         offset = _offset(compiled)
         frame = product @ offset

@@ -7,9 +7,11 @@ the leg, and a universal joint at the platform attachment bᵢ = p + zᵢ i on t
 line Λ, where p = (pₓ, p_y, p_z) is a point of Λ and i = (u, v, w) its unit
 direction (Section II). One revolute axis of every universal joint lies along
 Λ, so the five revolutes are aligned and the tool turns freely about Λ (the
-paper's Fig. 1 caption): the classifier reports that spin as an idle freedom.
-Blocking one of the aligned revolutes (the paper's alternative, Section I)
-removes it.
+paper's Fig. 1 caption). The end-effector is the axisymmetric tool itself
+(``output: tool``: the point p and the direction i of Λ, in ℝ³ × S²), which
+that spin does not move: the classifier reports the spin as an idle freedom,
+not as an architecture singularity. Blocking one of the aligned revolutes
+(the paper's alternative, Section I) removes it.
 
 The singular configurations are the zeros of (17),
 [w (C₂ C₃ C₆) − p_z (C₄ C₅ C₁)] · (pₓ w − p_z u, p_y w − p_z v, w)ᵀ = 0, with
@@ -42,7 +44,7 @@ _I = (0.3, -0.2, 1.0)
 def five_spu(*, x1=_X[0], y1=_Y[0], z1=_Z[0], x2=_X[1], y2=_Y[1], z2=_Z[1], x3=_X[2], y3=_Y[2], z3=_Z[2],
              x4=_X[3], y4=_Y[3], z4=_Z[3], x5=_X[4], y5=_Y[4], z5=_Z[4],
              p_x=_P[0], p_y=_P[1], p_z=_P[2], u=_I[0], v=_I[1], w=_I[2],
-             spin="free", end_effector="pose"):
+             spin="free", end_effector="tool"):
     """5-SPU with planar base and linear platform, assembled at the line pose (p, i).
 
     Parameters
@@ -68,8 +70,11 @@ def five_spu(*, x1=_X[0], y1=_Y[0], z1=_Z[0], x2=_X[1], y2=_Y[1], z2=_Z[1], x3=_
         its actuated force, a force along n₁ through a₁, whose moment about Λ
         is −‖d₁ × i‖ ≠ 0, so it fixes the spin and adds no singularity: the
         five leg lines are dependent exactly when the six wrenches are.
-    end_effector : {"pose", "position", "none"}
-        The platform frame at p (pose), the point p alone, or no end-effector.
+    end_effector : {"tool", "pose", "position", "none"}
+        The tool on Λ, the point p and the direction i (``tool``, ℝ³ × S²:
+        the spin about Λ does not move it), the platform frame at p (pose:
+        with the spin free, the spin moves it and the design is
+        architecturally singular), the point p alone, or no end-effector.
 
     Returns
     -------
@@ -94,8 +99,9 @@ def five_spu(*, x1=_X[0], y1=_Y[0], z1=_Z[0], x2=_X[1], y2=_Y[1], z2=_Z[1], x3=_
     """
     if spin not in ("free", "locked"):
         raise MechanismError(f"5-spu: spin must be 'free' or 'locked', got {spin!r}")
-    if end_effector not in ("pose", "position", "none"):
-        raise MechanismError(f"5-spu: end_effector must be 'pose', 'position' or 'none', got {end_effector!r}")
+    if end_effector not in ("tool", "pose", "position", "none"):
+        raise MechanismError(f"5-spu: end_effector must be 'tool', 'pose', 'position' or 'none', "
+                             f"got {end_effector!r}")
     direction = np.array([u, v, w], dtype=float)
     norm = float(np.linalg.norm(direction))
     if not norm > 1e-12:
@@ -129,7 +135,9 @@ def five_spu(*, x1=_X[0], y1=_Y[0], z1=_Z[0], x2=_X[1], y2=_Y[1], z2=_Z[1], x3=_
             joints.append(Joint(f"U{index}", "U", (piston, "platform"), point=tuple(b),
                                 axes=(tuple(normal), tuple(direction))))
     output = None
-    if end_effector == "pose":
+    if end_effector == "tool":
+        output = EndEffector("platform", tuple(point), "tool", tuple(direction))
+    elif end_effector == "pose":
         output = EndEffector("platform", tuple(point), "pose")
     elif end_effector == "position":
         output = EndEffector("platform", tuple(point), "position")

@@ -41,7 +41,7 @@ CASES = [(item.name, name) for item in entries() for name in ("default", *item.c
 def test_the_catalogue_has_comparable_entries():
     names = {item_name for item_name, _ in CASES}
     assert {"slider-crank", "five-bar", "watt-six-bar", "planar-3rrr", "spherical-3rrr", "gough-stewart",
-            "3-prr", "hybrid", "eclipse"} <= names
+            "3-prr", "hybrid", "eclipse", "5-spu"} <= names  # 5-spu: 5 legs in, the tool (p, i) out
 
 
 @pytest.mark.parametrize("item_name", sorted({item_name for item_name, _ in CASES}))

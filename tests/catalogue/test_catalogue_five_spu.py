@@ -3,8 +3,10 @@
 Parallel singularities (Gosselin–Angeles type II) are Park–Kim actuator singularities. The
 paper's singular set is the zero set of (17) for any design, and of the two pose factors of (33),
 w = 0 and δ w pₓ − (δ u − 1) p_z = 0, for the quadratically solvable designs zᵢ = δ xᵢ (26).
-The tool's free spin about the platform line is an idle freedom (dof 6, G of rank 5 on M), or is
-removed by blocking leg 1's aligned revolute (dof 5).
+The tool's free spin about the platform line is an idle freedom (dof 6, G of rank 5 on M) once the
+end-effector is the tool itself (``output: tool``, the entry's default: the point p and the
+direction i of Λ), or is removed by blocking leg 1's aligned revolute (dof 5). With the platform
+*pose* as end-effector the spin moves it: an architecture singularity.
 
 Random poses share one survey (the largest ranks of G and J on M) per design: the survey depends
 on the design, not on the pose at which the mechanism is assembled, and it is the costly part of
@@ -190,7 +192,7 @@ def test_default_design_is_quadratically_solvable():
 
 
 NAMED = {
-    # name: (the paper's kinds, actuator rank, degeneracy) with the spin locked
+    # name: (the paper's kinds, actuator rank, degeneracy), with the spin locked or free (an idle freedom)
     "regular": ((), 5, None),
     "regular_locked": ((), 5, None),
     "eq33_w_zero": (("actuator",), 4, "nondegenerate"),
@@ -207,40 +209,48 @@ def test_named_configurations(name):
     """Borràs, Thomas & Torras 2011 eq. (33) (w = 0; δ w pₓ − (δu − 1) p_z = 0), eq. (35) (tool ⟂ base:
     δ pₓ + p_z = 0), Section III-C (Λ on Π: the trivial singularity, two leg wrenches lost). Both factors
     are folds where two assembly modes of (29)/(31)-(32) merge (Δ = 0, Section V-B), i.e.
-    nondegenerate — with the spin locked (Section I: one aligned revolute blocked, m = 5).
-
-    With the spin free (m = 6, Fig. 1) and the platform *pose* as end-effector, the spin is a
-    locked-actuator freedom that moves the end-effector everywhere on M: not idle but an architecture
-    singularity (docs/design.rst, "The three kinds"), so every configuration is a degenerate actuator
-    singularity, flagged as such — until the end-effector is the tool's axis alone."""
+    nondegenerate — with the spin locked (Section I: one aligned revolute blocked, m = 5) and with it
+    free (m = 6, Fig. 1): the end-effector is the axisymmetric tool (``output: tool``), which the spin
+    does not move, so the spin is an idle freedom (docs/design.rst, "The three kinds"), no architecture
+    singularity, and the second-order test runs transverse to it."""
     kinds, rank, degeneracy = NAMED[name]
     values = ENTRY.values(name)
+    assert values["end_effector"] == "tool"
     assert (abs(singularity_polynomial(**values)) < 1e-9) == bool(kinds)  # the preset is where the paper says
     report = classified(ENTRY.mechanism(name))
     assert report.actuator.rank == rank
     assert report.survey["actuator_rank"] == 5
-    assert report.end_effector.rank == report.dof  # the platform pose follows every motion, the spin included
-    assert report.idle_freedoms == 0
+    assert report.end_effector.rank == report.end_effector.expected_rank == 5  # dim N = 5: p and i
+    assert report.kinds == kinds
+    assert report.degeneracy == degeneracy
+    assert not report.architecture_singular and report.moving_idle_freedoms == 0
+    assert report.to_dict()["architecture_singular"] is False
     if values["spin"] == "locked":
-        assert report.dof == 5 and not report.architecture_singular
-        assert report.kinds == kinds
-        assert report.degeneracy == degeneracy
+        assert report.dof == 5 and report.idle_freedoms == 0
     else:
-        assert report.dof == 6 and report.architecture_singular and report.moving_idle_freedoms == 1
-        assert report.kinds == ("actuator",)
-        assert report.degeneracy == "degenerate"
-        assert report.to_dict()["architecture_singular"] is True
+        assert report.dof == 6 and report.idle_freedoms == 1
+        assert report.actuator.expected_rank == 5
+        assert not any("architecture singularity" in note for note in report.notes)
 
 
 @pytest.mark.parametrize("factor", ["eq33_w_zero", "eq33_second_factor"])
-def test_the_free_spin_is_the_self_motion_of_the_architecture_singularity(factor):
-    """The free spin's certificate is a motion of the tool about its own line: the platform's ball
-    joints turn, the legs (actuators) stay locked; locking the spin leaves the paper's verdict."""
-    free = classified(ENTRY.mechanism(factor))
-    locked = classified(ENTRY.mechanism(factor + "_locked"))
-    assert locked.degeneracy == "nondegenerate" and free.degeneracy == "degenerate"
-    motion = free.second_order.self_motion
+def test_with_a_pose_end_effector_the_free_spin_is_an_architecture_singularity(factor):
+    """With the platform *pose* as end-effector (``end_effector="pose"``), the free spin is a locked-actuator
+    freedom that moves the end-effector everywhere on M: not idle but an architecture singularity, every
+    configuration a degenerate actuator singularity, whose certificate is a motion of the tool about its own
+    line (the legs, i.e. the actuators, locked). The tool output and locking the spin both give the paper's
+    verdict."""
+    pose_output = classified(ENTRY.mechanism(factor, end_effector="pose"))
+    assert pose_output.dof == 6 and pose_output.idle_freedoms == 0
+    assert pose_output.architecture_singular and pose_output.moving_idle_freedoms == 1
+    assert pose_output.kinds == ("actuator",) and pose_output.degeneracy == "degenerate"
+    assert pose_output.to_dict()["architecture_singular"] is True
+    assert "architecture singularity" in pose_output.to_text()
+    motion = pose_output.second_order.self_motion
     assert motion.distance >= 0.1 and motion.largest_residual < 1e-9
+    tool = classified(ENTRY.mechanism(factor))
+    locked = classified(ENTRY.mechanism(factor + "_locked"))
+    assert tool.degeneracy == locked.degeneracy == "nondegenerate"
 
 
 # ----------------------------------------------------------------------------- the paper's polynomials
@@ -300,7 +310,7 @@ def test_actuator_singularities_of_a_quartic_design_are_the_zeros_of_eq17(case, 
     ({"p_x": 0.0, "p_y": 0.0, "p_z": 0.0}, "leg 1 has zero length"),
     ({"p_x": 2.0, "p_y": 0.0, "p_z": 0.0, "u": 1.0, "v": 0.0, "w": 0.0}, "leg 1 lies along the platform line"),
     ({"spin": "blocked"}, "spin"),
-    ({"end_effector": "tool"}, "end_effector"),
+    ({"end_effector": "gripper"}, "end_effector"),
 ])
 def test_unassemblable_parameters_are_refused_by_name(parameters, named):
     with pytest.raises(MechanismError, match=named):

@@ -328,13 +328,17 @@ def survey():
     return survey_of(model_of(five_spu(spin="locked", end_effector="none")))
 
 
-def _classifier_singular(design, position, direction, survey):
+def _five_spu(design, position, direction, spin="locked", end_effector="none"):
     parameters = {}
     for index in range(5):
         parameters[f"x{index + 1}"], parameters[f"y{index + 1}"] = (float(value) for value in design.base[index])
         parameters[f"z{index + 1}"] = float(design.platform[index])
-    mechanism = five_spu(**parameters, p_x=position[0], p_y=position[1], p_z=position[2], u=direction[0],
-                         v=direction[1], w=direction[2], spin="locked", end_effector="none")
+    return five_spu(**parameters, p_x=position[0], p_y=position[1], p_z=position[2], u=direction[0],
+                    v=direction[1], w=direction[2], spin=spin, end_effector=end_effector)
+
+
+def _classifier_singular(design, position, direction, survey):
+    mechanism = _five_spu(design, position, direction)
     return classify(mechanism, home(mechanism), survey=survey).actuator.singular
 
 
@@ -349,6 +353,40 @@ def test_the_classifier_finds_actuator_singularities_exactly_on_eq17(name, surve
         assert singularity_margin(design, position, direction) < 1e-12
     for position, direction in zip(*off):
         assert not _classifier_singular(design, position, direction, survey)
+
+
+@pytest.fixture(scope="module")
+def tool_survey():
+    """The survey of M of the free-spin 5-SPU whose end-effector is its axisymmetric tool (``output: tool``, the
+    point p and the direction i of Λ): largest ranks Φ 24, G 5, J 5 and (G; J) 5, so m = 6 with one idle freedom
+    (the spin) and no architecture singularity; the same for every non-architecturally-singular design."""
+    result = survey_of(model_of(five_spu()))
+    assert (result.actuator_rank, result.end_effector_rank, result.joint_rank) == (5, 5, 5)
+    return result
+
+
+@pytest.mark.parametrize("name", sorted(DESIGNS))
+def test_with_the_tool_output_the_classifier_finds_actuator_singularities_exactly_on_eq17(name, tool_survey):
+    """Borràs, Thomas & Torras 2011 (17), with the spin free (Fig. 1) and ``output: tool``: the general classifier
+    on the 5-SPU joint graph reports an actuator singularity at poses on the zero set of (17) and nowhere else,
+    for one design of each family; the spin is an idle freedom, never an architecture singularity, and the tool
+    (p, i) has no end-effector singularity there (J of rank 5 = dim N)."""
+    design = DESIGNS[name]()
+    rng = np.random.default_rng(22)
+    on = singular_poses(design, rng, 2)
+    off = random_poses(rng, 2)
+    for (positions, directions), on_locus in ((on, True), (off, False)):
+        for position, direction in zip(positions, directions):
+            assert (singularity_margin(design, position, direction) < 1e-12) == on_locus
+            mechanism = _five_spu(design, position, direction, spin="free", end_effector="tool")
+            report = classify(mechanism, home(mechanism), survey=tool_survey)
+            assert report.kinds == (("actuator",) if on_locus else ())
+            assert report.actuator.rank == (4 if on_locus else 5) and report.actuator.expected_rank == 5
+            assert (report.dof, report.idle_freedoms, report.moving_idle_freedoms) == (6, 1, 0)
+            assert not report.architecture_singular
+            assert report.end_effector.rank == report.end_effector.expected_rank == 5
+            if on_locus:
+                assert report.degeneracy == "nondegenerate"  # a fold of the assembly modes, the spin aside
 
 
 def test_the_classifier_agrees_before_and_after_a_rearrangement(survey):

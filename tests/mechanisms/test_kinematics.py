@@ -14,7 +14,7 @@ from builders import bennett, five_bar, five_bar_positions, rsur, spatial_mix, s
 from mechanisms.catalogue.slider_crank import slider_crank
 from manifold import numerical_rank, project, rotation_exp, tangent_basis
 from mechanisms import (
-    configuration_space, constraint, constraint_hessian, constraint_jacobian, end_effector,
+    EndEffector, Mechanism, configuration_space, constraint, constraint_hessian, constraint_jacobian, end_effector,
     end_effector_chart, end_effector_hessian, end_effector_jacobian, home, kinematics_of,
 )
 
@@ -28,7 +28,15 @@ MECHANISMS = {
     "mix pose": spatial_mix,
     "mix orientation": lambda: spatial_mix("orientation"),
     "mix position": lambda: spatial_mix("position"),
+    "RSUR tool": lambda: with_tool(rsur("position"), (0.3, -0.5, 0.8)),
+    "mix tool": lambda: with_tool(spatial_mix("position"), (1.0, 2.0, -0.5)),
 }
+
+
+def with_tool(mechanism, axis):
+    """The mechanism with its end-effector made an axisymmetric tool (``output: tool``) along `axis`."""
+    tool = EndEffector(mechanism.end_effector.link, mechanism.end_effector.point, "tool", axis)
+    return Mechanism(mechanism.name, mechanism.space, mechanism.joints, mechanism.ground, tool)
 
 
 def slopes(function, jacobian, hessian, point, space, rng, chart=None):
