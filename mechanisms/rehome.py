@@ -48,8 +48,10 @@ def _moved(mechanism, first_pose, second_pose, name_suffix=""):
             axis=_transform_axis(space, first, joint.axis), axes=axes))
     end_effector = mechanism.end_effector
     if end_effector is not None and end_effector.point is not None:
-        end_effector = dataclasses.replace(
-            end_effector, point=_transform_point(space, first_pose(end_effector.link), end_effector.point))
+        pose = first_pose(end_effector.link)
+        axis = None if end_effector.axis is None else _transform_axis(space, pose, end_effector.axis)
+        end_effector = dataclasses.replace(end_effector, point=_transform_point(space, pose, end_effector.point),
+                                           axis=axis)
     return Mechanism(mechanism.name + name_suffix, space, joints, mechanism.ground, end_effector)
 
 
