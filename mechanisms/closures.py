@@ -8,13 +8,20 @@ small YAML file::
     name_mot: [mot1, mot2]                          # the actuated joints, exact URDF names
     joint_name: [spherical_foot]                    # optional: URDF joints re-typed ...
     joint_type: [SPHERICAL]                         # ... as SPHERICAL, FIXED, UJOINT_AB or CARDAN
+    end_effector: {frame: effector, output: pose}   # optional (closedchain's own key): the end-effector
 
 ``type`` is optional (every pair ``6d``, as that collection's loader assumes)
 and is read case-insensitively (``3D`` = ``3d``); ``name_mot`` is optional
 (no actuated joint); ``joint_name`` and ``joint_type`` go together, one type
 per name. ``UJOINT_AB`` (``A``, ``B`` ∈ {X, Y, Z}, different) is a universal
 joint: a revolute about the joint frame's axis A, then one about its (moved)
-axis B; ``CARDAN`` is ``UJOINT_XY``. Every other key is refused, naming it.
+axis B; ``CARDAN`` is ``UJOINT_XY``. ``end_effector`` is closedchain's
+addition to the convention (Pinocchio's loaders read only their own keys): a
+frame name, resolved as the loop frames are, whose origin and link are the
+end-effector's, and ``output`` (``position``, the default; ``orientation``
+or ``pose``), so that end-effector singularities can be classified and an
+exported mechanism comes back with its end-effector. Every other key is
+refused, naming it.
 The file is read as :mod:`mechanisms.io` reads a mechanism file (YAML 1.2
 core schema, no anchors or tags, 1 MiB at most); nothing is evaluated.
 """
@@ -22,18 +29,22 @@ core schema, no anchors or tags, 1 MiB at most); nothing is evaluated.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import Optional
 
 from .errors import MechanismError
 from .joints import check_name
 
-__all__ = ["Closures", "CLOSURE_TYPES", "JOINT_RETYPES", "read_closures", "closures_from_dict", "closures_to_dict",
-           "universal_axes"]
+__all__ = ["Closures", "CLOSURE_TYPES", "JOINT_RETYPES", "END_EFFECTOR_OUTPUTS", "read_closures", "closures_from_dict",
+           "closures_to_dict", "universal_axes"]
 
 #: the two kinds of closure: the frames coincide rigidly, or only their origins do
 CLOSURE_TYPES = ("6d", "3d")
 #: re-typings of a URDF joint besides ``UJOINT_AB``
 JOINT_RETYPES = ("SPHERICAL", "FIXED", "CARDAN")
-_KEYS = ("closed_loop", "type", "name_mot", "joint_name", "joint_type")
+_KEYS = ("closed_loop", "type", "name_mot", "joint_name", "joint_type", "end_effector")
+_END_EFFECTOR_KEYS = ("frame", "output")
+#: what an end-effector may output (as :class:`mechanisms.joints.EndEffector`)
+END_EFFECTOR_OUTPUTS = ("position", "orientation", "pose")
 _AXES = "XYZ"
 
 
@@ -51,12 +62,15 @@ class Closures:
         Names of the actuated joints.
     retyped : dict
         Joint name → ``"SPHERICAL"``, ``"FIXED"`` or ``"UJOINT_AB"`` (``CARDAN`` read as ``UJOINT_XY``).
+    end_effector : tuple of (str, str), optional
+        (frame name, output) of the end-effector; None: none.
     """
 
     loops: tuple = ()
     types: tuple = ()
     actuated: tuple = ()
     retyped: dict = field(default_factory=dict)
+    end_effector: Optional[tuple] = None
 
 
 def universal_axes(joint_type):
@@ -147,7 +161,27 @@ def closures_from_dict(data, source="closures file"):
             raise MechanismError(f"{source}: field 'joint_type': item {index}: expected SPHERICAL, FIXED, CARDAN "
                                  f"or UJOINT_AB (A, B two different axes of X, Y, Z), got {joint_type!r}"[:300])
         retyped[name] = joint_type
-    return Closures(tuple(pairs), tuple(checked), actuated, retyped)
+    return Closures(tuple(pairs), tuple(checked), actuated, retyped, _end_effector(data.get("end_effector"), source))
+
+
+def _end_effector(value, source):
+    """(frame, output) of the ``end_effector`` key, or None."""
+    where = f"{source}: field 'end_effector'"
+    if value is None:
+        return None
+    if not isinstance(value, dict):
+        raise MechanismError(f"{where}: expected a mapping {{frame: NAME, output: position|orientation|pose}}, "
+                             f"got {type(value).__name__}")
+    for key in value:
+        if key not in _END_EFFECTOR_KEYS:
+            raise MechanismError(f"{where}: unknown key {key!r} (expected frame, output)")
+    if "frame" not in value:
+        raise MechanismError(f"{where}: field 'frame': missing")
+    frame = check_name(value["frame"], f"{where}: field 'frame'")
+    output = value.get("output", "position")
+    if output not in END_EFFECTOR_OUTPUTS:
+        raise MechanismError(f"{where}: field 'output': expected position, orientation or pose, got {output!r}"[:300])
+    return frame, output
 
 
 def _no_duplicates(names, where):
@@ -187,4 +221,6 @@ def closures_to_dict(closures):
     if closures.retyped:
         data["joint_name"] = list(closures.retyped)
         data["joint_type"] = list(closures.retyped.values())
+    if closures.end_effector is not None:
+        data["end_effector"] = {"frame": closures.end_effector[0], "output": closures.end_effector[1]}
     return data

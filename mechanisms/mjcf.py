@@ -10,7 +10,10 @@ the loop closures from ``<equality>``: ``connect`` (a ``3d`` closure of the
 two anchors, ``eq_data[0:3]`` on the first body and ``eq_data[3:6]`` on the
 second) and ``weld`` (a ``6d`` closure: the second body at ``relpose``,
 ``eq_data[3:10]``, from the first), and the actuated joints from
-``<actuator>`` elements that drive a joint. Inactive equalities are ignored.
+``<actuator>`` elements that drive a joint (an actuator on a tendon, site or
+body is named in the notes and not counted). Inactive equalities are
+ignored; a ``joint`` or ``tendon`` equality (a coupling of values, not a
+loop closure) is refused, naming it.
 Assembly and building are those of :func:`mechanisms.urdf.import_tree`.
 """
 
@@ -104,14 +107,21 @@ def tree_from_mjcf(model, source="MJCF"):
             frames[f"{label}:B"] = (second, np.eye(4))
             types.append("6d")
         else:
-            raise MechanismError(f"{source}: equality {label!r}: only connect and weld constraints are supported")
+            kinds = {int(mujoco.mjtEq.mjEQ_JOINT): "joint", int(mujoco.mjtEq.mjEQ_TENDON): "tendon"}
+            raise MechanismError(f"{source}: equality {label!r}: a {kinds.get(kind, 'non-geometric')} equality is "
+                                 f"not supported (only connect and weld, the loop closures; a coupling of joint or "
+                                 f"tendon values is not one)")
         loops.append((f"{label}:A", f"{label}:B"))
-    actuated = []
+    actuated, elsewhere = [], []
     for index in range(model.nu):
         if int(model.actuator_trntype[index]) == int(mujoco.mjtTrn.mjTRN_JOINT):
             joint_name = name(mujoco.mjtObj.mjOBJ_JOINT, int(model.actuator_trnid[index][0]), "joint")
             if joint_name not in actuated:
                 actuated.append(joint_name)
+        else:
+            elsewhere.append(name(mujoco.mjtObj.mjOBJ_ACTUATOR, index, "actuator"))
+    if elsewhere:
+        notes.append(f"actuators that drive no joint (a tendon, site or body) are not counted: {', '.join(elsewhere)}")
     notes.insert(0, f"world body {bodies[0]!r} is the ground")
     tree = KinematicTree("mjcf", bodies[0], tuple(links), tuple(joints), frames, tuple(notes))
     return tree, Closures(tuple(loops), tuple(types), tuple(actuated), {})
@@ -139,4 +149,5 @@ def read_mjcf(path):
         reason = " ".join(str(error).split()) or type(error).__name__
         raise MechanismError(f"{path}: MJCF: cannot compile: {reason}"[:400]) from None
     tree, closures = tree_from_mjcf(model, str(path))
-    return import_tree(tree, closures, mechanism_name(path), str(path), description=f"imported from the MJCF {path.name}")
+    return import_tree(tree, closures, mechanism_name(path), str(path),
+                       description=f"imported from the MJCF {path.name}")

@@ -9,9 +9,12 @@ steps:
    joint's links exist, every link has at most one parent joint, one root.
 2. **Normalise** the joints (:class:`KinematicTree`): ``revolute`` and
    ``continuous`` are ``R``, ``prismatic`` is ``P``, ``fixed`` joints are
-   merged into their parent link; a ``floating`` joint is held fixed (the
-   floating base of a legged robot), and the root link is the ground — both
-   stated in the notes. The closures file may re-type a joint: ``SPHERICAL``
+   merged into their parent link; a ``floating`` joint from the root link
+   is held fixed (the floating base of a legged robot), and the root link is
+   the ground — both stated in the notes. A ``planar`` joint, a ``floating``
+   joint elsewhere and a ``<mimic>`` joint on a loop are refused, naming the
+   joint (a mimic joint on no loop is left out with the rest of its
+   dangling chain). The closures file may re-type a joint: ``SPHERICAL``
    (a ball joint at the joint origin), ``FIXED``, ``UJOINT_AB`` (a revolute
    about the joint frame's axis A, then one about its moved axis B).
 3. **Assemble**: a URDF's zero configuration rarely closes the loops. The
@@ -50,11 +53,11 @@ import numpy as np
 
 from .closures import Closures, read_closures, universal_axes
 from .errors import MechanismError
-from .joints import Joint
+from .joints import EndEffector, Joint
 from .mechanism import Mechanism
 
 __all__ = ["TreeJoint", "KinematicTree", "Imported", "read_urdf", "tree_from_urdf", "import_tree", "retype",
-           "ASSEMBLY_TOLERANCE", "URDF_SIZE_LIMIT"]
+           "looks_like_urdf", "ASSEMBLY_TOLERANCE", "URDF_SIZE_LIMIT"]
 
 #: largest residual of the dimensionless closure map accepted at the assembled configuration
 ASSEMBLY_TOLERANCE = 1e-9
@@ -113,6 +116,9 @@ class KinematicTree:
         that are not link names (a link's own frame is the identity on it).
     notes : tuple of str
         What reading the source decided (a fixed floating base, ignored tags).
+    mimics : tuple of str
+        The joints with a URDF ``<mimic>`` tag: a coupling of joint values that is not a loop closure. They may
+        only be on no loop (left out); on a loop the import is refused.
     """
 
     name: str
@@ -121,6 +127,7 @@ class KinematicTree:
     joints: tuple
     frames: dict = field(default_factory=dict)
     notes: tuple = ()
+    mimics: tuple = ()
 
     def frame(self, name, where):
         """(link, pose in the link's frame) of a frame name; MechanismError naming `where` if unknown."""
@@ -248,6 +255,9 @@ def _parse_urdf(text, source):
     import yourdfpy  # imported when used: it imports trimesh
 
     logging.getLogger("yourdfpy").setLevel(logging.CRITICAL)
+    reason = _diagnosis(text)  # the parser recovers from broken XML: refuse it first
+    if reason is not None:
+        raise MechanismError(f"{source}: URDF: cannot parse: {reason}"[:400])
     try:
         model = yourdfpy.URDF.load(io.BytesIO(text.encode("utf-8")), build_scene_graph=False, load_meshes=False,
                                    build_collision_scene_graph=False, load_collision_meshes=False)
@@ -255,6 +265,55 @@ def _parse_urdf(text, source):
         reason = " ".join(str(error).split()) or type(error).__name__
         raise MechanismError(f"{source}: URDF: cannot parse: {reason}"[:400]) from None
     return model.robot
+
+
+#: per URDF element, the attributes and sub-elements (with their attribute) that the kinematics needs
+_REQUIRED = {"link": (("name",), ()), "joint": (("name", "type"), (("parent", "link"), ("child", "link")))}
+
+
+def _diagnosis(text):
+    """What makes a text no URDF, in the file's own terms (None when nothing does): not well-formed XML (which the
+    parser would recover from, reading what it can), a root element other than ``<robot>``, a xacro file, a link
+    or joint without a required attribute or sub-element. The DOCTYPE and ENTITY declarations were refused
+    before.
+    """
+    from xml.etree import ElementTree
+
+    try:
+        root = ElementTree.fromstring(text)
+    except ElementTree.ParseError as error:
+        return f"not well-formed XML ({error})"
+    if root.tag != "robot":
+        return f"the root element is <{root.tag}>, not <robot> (is this a URDF file?)"
+    if "xmlns:xacro" in text or any("${" in value for element in root.iter() for value in element.attrib.values()):
+        return "a xacro file (macros, ${...} expressions): expand it first, e.g. `xacro robot.urdf.xacro > robot.urdf`"
+    for element in root:
+        if element.tag not in _REQUIRED:
+            continue
+        attributes, children = _REQUIRED[element.tag]
+        label = f"<{element.tag}> {element.get('name')!r}" if element.get("name") else f"a <{element.tag}>"
+        for attribute in attributes:
+            if not element.get(attribute):
+                return f"{label}: attribute '{attribute}' is missing"
+        for child, attribute in children:
+            found = element.find(child)
+            if found is None or not found.get(attribute):
+                return f"{label}: <{child} {attribute}=\"...\"/> is missing"
+    return None
+
+
+def looks_like_urdf(path):
+    """Whether an XML file's root element is ``<robot>`` (a URDF saved as ``.xml``), from its first 64 KiB."""
+    import re
+
+    try:
+        with open(path, "rb") as stream:
+            head = stream.read(65536).decode("utf-8", errors="replace")
+    except OSError:
+        return False
+    head = re.sub(r"<!--.*?-->|<\?.*?\?>", "", head, flags=re.DOTALL)
+    match = re.search(r"<\s*([A-Za-z_][\w.:-]*)", head)
+    return match is not None and match.group(1) == "robot"
 
 
 def tree_from_urdf(text, source="URDF"):
@@ -292,20 +351,25 @@ def tree_from_urdf(text, source="URDF"):
             kind, axes = ("P" if joint.type == "prismatic" else "R"), (axis,)
         elif joint.type in ("fixed", "floating"):
             kind, axes = "fixed", ()
-            if joint.type == "floating":
-                notes.append(f"floating joint {joint.name!r} held fixed")
         else:
             raise MechanismError(f"{where}: field 'type': a {joint.type!r} joint is not supported (revolute, "
-                                 f"continuous, prismatic, fixed, floating)")
+                                 f"continuous, prismatic, fixed; floating only for the base)")
         if getattr(joint, "mimic", None) is not None:
             mimics.append(joint.name)
         joints.append(TreeJoint(joint.name, kind, joint.parent, joint.child, placement, axes))
     root = _check_tree(links, joints, source)
     notes.insert(0, f"base link {root!r} fixed as the ground (a floating base is held fixed)")
-    if mimics:
-        notes.append(f"mimic tags ignored (the joints move independently): {', '.join(mimics)}")
+    for joint in robot.joints:
+        if joint.type != "floating":
+            continue
+        if joint.parent != root:
+            raise MechanismError(f"{source}: joint {joint.name!r}: field 'type': a floating joint inside the tree "
+                                 f"(its parent {joint.parent!r} is not the base link {root!r}) is not supported: "
+                                 f"a free body is not a mechanism's link")
+        notes.append(f"floating joint {joint.name!r} (the floating base) held fixed")
     frames = {joint.name: (joint.child, np.eye(4)) for joint in joints if joint.name not in links}
-    return KinematicTree(robot.name or "robot", root, links, tuple(joints), frames, tuple(notes))
+    return KinematicTree(robot.name or "robot", root, links, tuple(joints), frames, tuple(notes),
+                         tuple(mimics))
 
 
 def retype(tree, closures, source="closures file"):
@@ -332,7 +396,7 @@ def retype(tree, closures, source="closures file"):
             joint = TreeJoint(joint.name, "U", joint.parent, joint.child, joint.placement,
                               (np.eye(3)[first], np.eye(3)[second]), joint.child_offset)
         joints.append(joint)
-    return KinematicTree(tree.name, tree.root, tree.links, tuple(joints), tree.frames, tree.notes)
+    return KinematicTree(tree.name, tree.root, tree.links, tuple(joints), tree.frames, tree.notes, tree.mimics)
 
 
 # ----------------------------------------------------------------------------------------------- assembly
@@ -513,7 +577,8 @@ def _assemble(closure, loop_names, source):
             step *= _MAX_STEP / norm
         point = closure.ambient.retract(point, step)
     residuals = closure.loop_residuals(point)
-    worst = sorted(range(len(residuals)), key=lambda index: -residuals[index])[:_NAMED_LOOPS]
+    open_loops = [index for index in range(len(residuals)) if residuals[index] > ASSEMBLY_TOLERANCE]
+    worst = sorted(open_loops or range(len(residuals)), key=lambda index: -residuals[index])[:_NAMED_LOOPS]
     named = "; ".join(f"loop {index + 1} {list(loop_names[index])} residual {residuals[index]:.3g}" for index in worst)
     raise MechanismError(f"{source}: the loops cannot be closed (Gauss–Newton from the zero configuration stalls at "
                          f"residual {np.linalg.norm(closure.constraint(point)):.3g} > {ASSEMBLY_TOLERANCE:g}): "
@@ -584,6 +649,11 @@ def import_tree(tree, closures, name=None, source="robot", description=None):
         link_b, pose_b = tree.frame(second, where)
         loops.append((kind, bodies.body[link_a], bodies.offset[link_a] @ pose_a,
                       bodies.body[link_b], bodies.offset[link_b] @ pose_b))
+    end_effector = None
+    if closures.end_effector is not None:
+        frame, output = closures.end_effector
+        link, pose = tree.frame(frame, f"{source}: field 'end_effector': field 'frame'")
+        end_effector = (bodies.body[link], bodies.offset[link] @ pose, output)
     length = _length(tree, bodies)
     closure = _Closure(tree, bodies, loops, length)
     point = _assemble(closure, closures.loops, source)
@@ -591,7 +661,8 @@ def import_tree(tree, closures, name=None, source="robot", description=None):
     distance = float(np.linalg.norm(closure.ambient.inverse_retract(closure.ambient.neutral(), point)
                                     / closure.ambient.tangent_scales))
     poses, frames, _ = closure.kinematics(point)
-    mechanism, notes = _build(tree, bodies, closures, closure, point, poses, frames, name or tree.name, description)
+    mechanism, notes = _build(tree, bodies, closures, closure, point, poses, frames, name or tree.name, description,
+                              end_effector, source)
     notes = (*tree.notes, *notes,
              f"assembled from the zero configuration: moved by {distance:.3g} (radians; lengths over "
              f"{length:.3g}), closure residual {float(np.linalg.norm(closure.constraint(point))):.1e}")
@@ -602,7 +673,8 @@ def import_tree(tree, closures, name=None, source="robot", description=None):
                     tuple(residuals), tree, closures, text)
 
 
-def _build(tree, bodies, closures, closure, point, poses, frames, name, description):
+def _build(tree, bodies, closures, closure, point, poses, frames, name, description, end_effector=None,
+           source="robot"):
     union = _Union()
     notes = []
     if bodies.merged:
@@ -656,9 +728,21 @@ def _build(tree, bodies, closures, closure, point, poses, frames, name, descript
         lost = [joint.name for joint in dropped if joint.actuated]
         notes.append(f"joints on no loop left out (each adds free coordinates): {', '.join(j.name for j in dropped)}"
                      + (f"; actuated among them: {', '.join(lost)}" if lost else ""))
+    left = [joint.name for joint in dropped if joint.name in tree.mimics]
+    if left:
+        notes.append(f"<mimic> joints on no loop, left out with their coupling: {', '.join(left)}")
     if not joints:
         raise MechanismError(f"{name}: no movable joint is left to analyse")
-    return Mechanism(name, "spatial", joints, ground), notes
+    effector = None
+    if end_effector is not None:
+        body, offset, output = end_effector
+        link = union.find(body)
+        if link not in {name for joint in joints for name in joint.links}:
+            raise MechanismError(f"{source}: field 'end_effector': field 'frame': {closures.end_effector[0]!r} is on "
+                                 f"link {body!r}, which is left out (on no loop) or not moved by any joint")
+        point = None if output == "orientation" else tuple((poses[body] @ offset)[:3, 3])
+        effector = EndEffector(link, point, output)
+    return Mechanism(name, "spatial", joints, ground, effector), notes
 
 
 def _prune(joints, ground):
@@ -723,5 +807,11 @@ def read_urdf(path, closures=None):
         closures_source = str(closures)
         closures = read_closures(closures)
     tree = retype(tree_from_urdf(text, source), closures, closures_source)
-    return import_tree(tree, closures, mechanism_name(path), closures_source,
-                       description=f"imported from the URDF {path.name} (robot {tree.name!r})")
+    imported = import_tree(tree, closures, mechanism_name(path), closures_source,
+                           description=f"imported from the URDF {path.name} (robot {tree.name!r})")
+    coupled = [joint.name for joint in imported.mechanism.joints if joint.name in tree.mimics]
+    if coupled:
+        raise MechanismError(f"{source}: joint {coupled[0]!r}: a <mimic> joint on a loop is not supported (its "
+                             f"value is coupled to another joint's, a constraint that is not a loop closure); remove "
+                             f"the tag to let it move freely, or re-type it FIXED in the closures file")
+    return imported

@@ -58,6 +58,9 @@ def closures_option(parser):
 def import_file(path, closures=None):
     """Import a URDF (with its closures file) or an MJCF file: :class:`mechanisms.urdf.Imported`.
 
+    A ``.xml`` file whose root element is ``<robot>`` is a URDF (:func:`mechanisms.urdf.looks_like_urdf`); any
+    other ``.xml`` file is MJCF.
+
     Raises
     ------
     InputError
@@ -65,9 +68,9 @@ def import_file(path, closures=None):
     MechanismError
         From the import, one line naming the file and field.
     """
-    if Path(path).suffix == ".urdf":
-        from mechanisms.urdf import read_urdf
+    from mechanisms.urdf import looks_like_urdf, read_urdf
 
+    if Path(path).suffix == ".urdf" or looks_like_urdf(path):
         return read_urdf(path, closures)
     if closures is not None:
         raise InputError(f"--closures: applies to a URDF input, not to {path} (an MJCF file has its loops as "

@@ -1,6 +1,11 @@
-"""``closedchain report [PATH|NAME ...] [--output FILE] [--jobs N] [--format json|text]``: classify the catalogue
-(every entry at its defaults and at each named configuration), or every mechanism file under the paths, with the
-derived Gosselin–Angeles kinds alongside.
+"""``closedchain report [PATH|NAME ...] [--closures FILE] [--output FILE] [--html FILE] [--jobs N]
+[--format json|text]``: classify the catalogue (every entry at its defaults and at each named configuration), or
+every mechanism file under the paths, with the derived Gosselin–Angeles kinds alongside.
+
+A robot file is imported and assembled (:func:`classify.cli._common.import_file`): a URDF given by name with its
+``--closures`` file, an MJCF ``.xml`` file, and in a folder every ``.urdf`` with the ``.yaml`` of the same stem
+beside it as its closures file (the layout of the example-parallel-robots collection); it is classified at the
+closed configuration reached, its ``home``.
 
 The configurations of one design share one survey of M (:func:`classify.survey.survey`), and the designs run in
 parallel (``--jobs``); every configuration is classified with its own generator seeded by ``--seed``, so the
@@ -21,7 +26,8 @@ from mechanisms import catalogue
 
 from ..text import printable
 from ._common import (
-    MECHANISM_SUFFIXES, InputError, check_length_scale, common_options, dumps, is_entry, path_exists, write_output,
+    IMPORT_SUFFIXES, MECHANISM_SUFFIXES, InputError, check_length_scale, closures_option, common_options, dumps,
+    import_file, is_entry, path_exists, write_output,
 )
 
 __all__ = ["add_parser", "run", "run_tasks", "report_table", "table_cells", "report_summary", "ReportRow",
@@ -136,18 +142,33 @@ class ReportRow(NamedTuple):
 
 @dataclass(frozen=True)
 class _Task:
-    """A unit of work: configurations of one source, in report order, that share their surveys."""
+    """A unit of work: configurations of one source, in report order, that share their surveys.
+
+    `closures` is the closures file of a URDF source (None: none, or not a URDF).
+    """
 
     source: str
     names: tuple
     is_file: bool = False
+    closures: Optional[str] = None
+
+
+class _Configuration(NamedTuple):
+    """One configuration of a task, as the report classifies and draws it: the mechanism built for it, the point,
+    and the report's ``source`` account."""
+
+    name: str
+    mechanism: object
+    point: object
+    source: dict
 
 
 def add_parser(commands):
     parser = commands.add_parser("report", help="classify the catalogue, or every mechanism file under the paths")
     parser.add_argument("paths", nargs="*", default=[], metavar="PATH|NAME",
-                        help="files, folders or catalogue names (default: every catalogue entry, "
-                             "at its defaults and at each named configuration)")
+                        help="mechanism files, robot files (URDF with --closures, MJCF .xml), folders or catalogue "
+                             "names (default: every catalogue entry, at its defaults and at each named "
+                             "configuration); in a folder, a URDF's closures file is the .yaml of its stem")
     parser.add_argument("--output", default=None,
                         help="write the report to this file and print only a summary")
     parser.add_argument("--html", default=None, metavar="FILE",
@@ -156,21 +177,51 @@ def add_parser(commands):
     parser.add_argument("--jobs", type=int, default=None, metavar="N",
                         help="processes to run in parallel (default: the available cores; 1: none)")
     parser.add_argument("--format", choices=("json", "text"), default="text")
+    closures_option(parser)
     common_options(parser)
     return parser
 
 
-def _mechanism_files(paths):
+def _folder_files(folder):
+    """(path, closures) of the files under a folder: mechanism files, and each URDF with the ``.yaml`` of its stem
+    beside it as its closures file (that YAML is not read as a mechanism file)."""
+    found = sorted(path for path in folder.rglob("*") if path.suffix in (*MECHANISM_SUFFIXES, ".urdf"))
+    closures = {path.with_suffix(".yaml"): path for path in found if path.suffix == ".urdf"}
     files = []
+    for path in found:
+        if path.suffix == ".urdf":
+            beside = path.with_suffix(".yaml")
+            files.append((path, str(beside) if beside.is_file() else None))
+        elif path not in closures:
+            files.append((path, None))
+    return files
+
+
+def _looks_like_urdf(path):
+    from mechanisms.urdf import looks_like_urdf  # imported when used: NumPy
+
+    return looks_like_urdf(path)
+
+
+def _mechanism_files(paths, closures=None):
+    """(path, closures file or None) of every file to report: the files named, and those under the folders
+    (:func:`_folder_files`); `closures` (``--closures``) goes with the one URDF named."""
+    files, named = [], []
     for path in map(Path, paths):
         if not path_exists(path):
             raise InputError(f"{printable(path)}: no such file or folder")
         if path.is_dir():
-            files += sorted(p for p in path.rglob("*") if p.suffix in MECHANISM_SUFFIXES)
-        else:
-            files.append(path)
+            files += _folder_files(path)
+            continue
+        if path.suffix == ".urdf" or (path.suffix == ".xml" and _looks_like_urdf(path)):
+            named.append(len(files))
+        files.append((path, None))
+    if closures is not None:
+        if len(named) != 1:
+            raise InputError(f"--closures: applies to one URDF file named on the command line, got {len(named)}")
+        files[named[0]] = (files[named[0]][0], closures)
     if not files:
-        raise InputError(f"no mechanism files (.yaml, .yml, .json) under {', '.join(map(printable, paths))}")
+        raise InputError(f"no mechanism files (.yaml, .yml, .json, .urdf) under {', '.join(map(printable, paths))}")
     return files
 
 
@@ -233,9 +284,17 @@ def _comparison_text(row):
             f"({verdict}; {printable(comparison.note)})")
 
 
+def _import_lines(row):
+    """The lines that say how an imported robot was read and assembled (none for other sources)."""
+    origin = row.report.source or {}
+    lines = [f"  closures: {printable(origin['closures'])}"] if "closures" in origin else []
+    return "".join(f"{line}\n" for line in lines + [f"  imported: {printable(note)}"
+                                                    for note in origin.get("import", {}).get("notes", ())])
+
+
 def _text(rows):
-    details = "\n\n".join(f"== {printable(row.source)} [{printable(row.name)}]\n{row.report.to_text()}\n"
-                          f"  {_comparison_text(row)}" for row in rows)
+    details = "\n\n".join(f"== {printable(row.source)} [{printable(row.name)}]\n{_import_lines(row)}"
+                          f"{row.report.to_text()}\n  {_comparison_text(row)}" for row in rows)
     return legend() + "\n" + report_table(rows) + "\n\n" + details
 
 
@@ -249,7 +308,7 @@ def _json(rows):
         if row.outputs is not None:
             comparison["park_kim_kinds"] = list(row.comparison.park_kim.kinds)
         result.append({"source": row.source, "configuration_name": row.name,
-                       **({"parameters": origin["parameters"]} if "parameters" in origin else {}),
+                       **{key: origin[key] for key in ("parameters", "closures", "import") if key in origin},
                        **classified, "comparison": comparison})
     return dumps(result)
 
@@ -334,66 +393,96 @@ class _Surveys:
         return self.known[key]
 
 
+def _configurations(task):
+    """The configurations of a task, in its order: the one place that builds each configuration's mechanism and
+    point for the rows and the pictures.
+
+    A catalogue entry's configuration is its mechanism built at it (:meth:`mechanisms.catalogue.Entry.mechanism`)
+    at its home; a mechanism file's are its home and named configurations, on the file's one mechanism; an
+    imported robot (URDF + closures, MJCF) has one, ``home``, the closed configuration its import reached.
+
+    Returns
+    -------
+    list of _Configuration
+    """
+    from mechanisms import configuration, home
+    from mechanisms.io import read
+
+    if not task.is_file:
+        item = catalogue.entry(task.source)
+        result = []
+        for name in task.names:
+            chosen = None if name == "default" else name
+            mechanism = item.mechanism(chosen)
+            result.append(_Configuration(name, mechanism, home(mechanism),
+                                         {"catalogue": item.name, "parameters": item.values(chosen),
+                                          "configuration": chosen}))
+        return result
+    path = Path(task.source)
+    if path.suffix in IMPORT_SUFFIXES:
+        imported = import_file(path, task.closures)
+        origin = {"file": task.source, "configuration": None,
+                  **({"closures": task.closures} if task.closures is not None else {}), "import": imported.to_dict()}
+        return [_Configuration("home", imported.mechanism, home(imported.mechanism), origin)]
+    document = read(path)
+    named = {"home": {}, **document.configurations}
+    return [_Configuration(name, document.mechanism,
+                           configuration(document.mechanism, named[name],
+                                         where=f"{printable(path)}: configurations[{name!r}]").point,
+                           {"file": task.source, "configuration": None if name == "home" else name})
+            for name in task.names]
+
+
 def _catalogue_rows(task, seed, length_scale):
     """The rows of a catalogue task: each configuration classified on its own mechanism (built at it), with the
     design's shared surveys."""
     import numpy as np
 
-    from mechanisms import home
     from mechanisms.joints import joint_coordinate_names
 
     from ..classification import classify
     from ..comparison import comparison_row
     from ..model import joint_output_model, model_of
 
-    item = catalogue.entry(task.source)
     surveys = _Surveys(seed)
     rows = []
-    for name in task.names:
-        mechanism = item.mechanism(None if name == "default" else name)
+    for name, mechanism, point, origin in _configurations(task):
         check_length_scale(length_scale, mechanism)
-        model, point, layout = model_of(mechanism, length_scale), home(mechanism), _layout(mechanism)
+        model, layout = model_of(mechanism, length_scale), _layout(mechanism)
         report = classify(model, point, survey=surveys.of(layout, model), rng=np.random.default_rng(seed))
-        report = replace(report, source={"catalogue": item.name,
-                                         "parameters": item.values(None if name == "default" else name),
-                                         "configuration": None if name == "default" else name})
-        outputs = _joint_outputs(item.name, mechanism)
+        report = replace(report, source=origin)
+        outputs = _joint_outputs(task.source, mechanism)
         compared_model, compared = model, report
         if outputs is not None:
             compared_model = joint_output_model(mechanism, outputs)
             compared = classify(compared_model, point, survey=surveys.of((layout, outputs), compared_model),
                                 rng=np.random.default_rng(seed))
             outputs = tuple(name for joint in outputs for name in joint_coordinate_names(mechanism.joint(joint)))
-        rows.append(ReportRow(item.name, name, report, comparison_row(compared_model, point, compared, name),
+        rows.append(ReportRow(task.source, name, report, comparison_row(compared_model, point, compared, name),
                               outputs))
     return rows
 
 
 def _file_rows(task, seed, length_scale):
-    """The rows of a mechanism file at its home and named configurations, with one survey from all of them."""
+    """The rows of a mechanism file at its home and named configurations (or of an imported robot at its
+    assembled home), with one survey from all of them."""
     import numpy as np
-
-    from mechanisms import configuration
-    from mechanisms.io import read
 
     from ..classification import classify
     from ..comparison import comparison_row
     from ..model import model_of
     from ..survey import survey as survey_mechanism
 
-    path = Path(task.source)
-    document = read(path)
-    mechanism = document.mechanism
-    named = {"home": {}, **document.configurations}
-    points = {name: configuration(mechanism, values, where=f"{printable(path)}: configurations[{name!r}]").point
-              for name, values in named.items()}
+    configurations = _configurations(task)
+    mechanism = configurations[0].mechanism
     check_length_scale(length_scale, mechanism)
     model = model_of(mechanism, length_scale)
-    shared = survey_mechanism(model, np.random.default_rng(seed), starts=np.stack(list(points.values())))
+    shared = survey_mechanism(model, np.random.default_rng(seed),
+                              starts=np.stack([entry.point for entry in configurations]))
     rows = []
-    for name, point in points.items():
+    for name, _, point, origin in configurations:
         report = classify(model, point, survey=shared, rng=np.random.default_rng(seed))
-        report = replace(report, source={"file": task.source, "configuration": None if name == "home" else name})
+        report = replace(report, source=origin)
         rows.append(ReportRow(task.source, name, report, comparison_row(model, point, report, name)))
     return rows
 
@@ -446,24 +535,6 @@ def _map_tasks(work, tasks, jobs, description):
 
 # ------------------------------------------------------------------------------------------------ the HTML page
 
-def _configurations_of(task):
-    """(name, mechanism, point) of each configuration of a task, as :func:`_catalogue_rows` and
-    :func:`_file_rows` classify them."""
-    from mechanisms import configuration, home
-    from mechanisms.io import read
-
-    if not task.is_file:
-        item = catalogue.entry(task.source)
-        for name in task.names:
-            mechanism = item.mechanism(None if name == "default" else name)
-            yield name, mechanism, home(mechanism)
-        return
-    document = read(Path(task.source))
-    named = {"home": {}, **document.configurations}
-    for name in task.names:
-        yield name, document.mechanism, configuration(document.mechanism, named[name]).point
-
-
 def _task_pictures(task, reports, seed=0):
     """The pictures of one task (run in a worker process): ``(source, name) → [Picture]`` for each configuration
     drawn (`reports`: ``(source, name) → Report``), and ``(source, None) → [Picture]`` for the loci of the task's
@@ -472,13 +543,13 @@ def _task_pictures(task, reports, seed=0):
     from ..report_pictures import configuration_picture, loci_picture
     from ..survey import survey_of
 
-    pictures, configurations = {}, list(_configurations_of(task))
-    for name, mechanism, point in configurations:
+    pictures, configurations = {}, _configurations(task)
+    for name, mechanism, point, _ in configurations:
         pictures[task.source, name] = [configuration_picture(mechanism, point, reports[task.source, name],
                                                              f"{task.source}: {name}")]
     # the loci from the task's first regular configuration (a grid cannot be continued from a singular one)
     regular = [entry for entry in configurations if not reports[task.source, entry[0]].kinds]
-    name, mechanism, point = (regular or configurations)[0]
+    name, mechanism, point, _ = (regular or configurations)[0]
     loci = loci_picture(mechanism, point, survey_of(model_of(mechanism)),
                         f"{task.source} at {name}: C-space and singularity loci", seed=seed)
     if loci is not None:
@@ -510,9 +581,16 @@ def _tasks(arguments):
         tasks += _catalogue_tasks(item)
         order += [(item.name, name) for name in ("default", *item.configurations)]
     if paths:
-        for path in dict.fromkeys(map(str, _mechanism_files(paths))):
-            tasks.append(_Task(path, ("home", *read(path).configurations), is_file=True))
+        for path, closures in dict.fromkeys((str(path), closures) for path, closures in
+                                            _mechanism_files(paths, arguments.closures)):
+            if Path(path).suffix in IMPORT_SUFFIXES:
+                import_file(path, closures)  # a robot that cannot be imported stops the report before the work
+                tasks.append(_Task(path, ("home",), is_file=True, closures=closures))
+            else:
+                tasks.append(_Task(path, ("home", *read(path).configurations), is_file=True))
             order += [(path, name) for name in tasks[-1].names]
+    elif arguments.closures is not None:
+        raise InputError("--closures: applies to a URDF file named on the command line, got none")
     return tasks, order
 
 

@@ -78,8 +78,35 @@ def test_convert_catalogue_entry_to_urdf_and_back(tmp_path, capsys):
     (["classify", "five-bar", "--closures", "x.yaml"], "--closures: applies to a URDF input"),
     (["convert", "five-bar", "--write", "out.txt"], "--write: expected"),
     (["classify", *robot("5bar_linkage"), "--param", "a=1"], "--param: does not apply"),
+    (["classify", str(ROBOTS / "5bar_linkage" / "robot.urdf"), "--closures",
+      str(ROBOTS.parents[2] / "examples" / "five_bar.yaml")], "five_bar.yaml: unknown key 'name'"),  # wrong shape
+    (["classify", *robot("cannot_close")], "loop 2 ['coupler_tip', 'follower_tip']"),
+    (["convert", *robot("leg_floating")[:1], "--closures", str(ROBOTS / "leg_floating" / "robot.urdf"),
+      "--write", "x.yaml"], "robot.urdf: cannot parse YAML"),  # a URDF given as the closures
 ])
 def test_bad_input_exits_2_with_one_line(arguments, message, capsys):
     status, out, err = run(arguments, capsys)
     assert status == 2
     assert message in err and err.count("\n") == 1 and "Traceback" not in err
+
+
+def test_compare_an_imported_robot_with_joint_outputs(capsys):
+    status, out, err = run(["compare", *robot("5bar_linkage_iso3d"), "--outputs", "free1,free2", "--format", "json"],
+                           capsys)
+    assert status == 0, err
+    result = json.loads(out)
+    assert result["inputs"] == ["mot1", "mot2"] and result["outputs"] == ["free1", "free2"]
+    assert result["configurations"][0]["park_kim"]["kinds"] == []
+
+
+def test_the_closures_end_effector_key_gives_the_robot_an_end_effector(tmp_path, capsys):
+    """closedchain's own key beside the collection's: the 5-bar's 'effector' frame (a link welded by a fixed joint
+    to the distal rod), its position; the robot moves in a plane, so the position's rank is 2."""
+    closures = (ROBOTS / "5bar_linkage_iso3d" / "robot.yaml").read_text() + "end_effector: {frame: effector}\n"
+    (tmp_path / "robot.yaml").write_text(closures)
+    status, out, err = run(["classify", str(ROBOTS / "5bar_linkage_iso3d" / "robot.urdf"), "--closures",
+                            str(tmp_path / "robot.yaml"), "--format", "json"], capsys)
+    assert status == 0, err
+    result = json.loads(out)
+    assert (result["end_effector"]["rank"], result["end_effector"]["expected_rank"]) == (2, 2)
+    assert result["kinds"] == []

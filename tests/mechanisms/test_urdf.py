@@ -14,8 +14,10 @@ from mechanisms.urdf import ASSEMBLY_TOLERANCE, read_urdf
 
 ROBOTS = Path(__file__).resolve().parents[1] / "data" / "robots"
 #: robot -> (C-space dimension, rank DΦ, motors, idle freedoms); the idle freedom of the 5-bar is the spin of the
-#: two coaxial leaf joints welded by its 6d closure
-EXPECTED = {"5bar_linkage": (3, 3, 2, 1), "5bar_linkage_iso3d": (2, 6, 2, 0), "battobot_6d": (12, 36, 12, 0)}
+#: two coaxial leaf joints welded by its 6d closure; `delta` is hand-made (tests/data/robots/README.md): three
+#: translations and the spins of its six rods about their axes
+EXPECTED = {"5bar_linkage": (3, 3, 2, 1), "5bar_linkage_iso3d": (2, 6, 2, 0), "battobot_6d": (12, 36, 12, 0),
+            "delta": (9, 30, 3, 6)}
 
 pytest.importorskip("yourdfpy")
 
