@@ -18,9 +18,10 @@ joint: a revolute about the joint frame's axis A, then one about its (moved)
 axis B; ``CARDAN`` is ``UJOINT_XY``. ``end_effector`` is closedchain's
 addition to the convention (Pinocchio's loaders read only their own keys): a
 frame name, resolved as the loop frames are, whose origin and link are the
-end-effector's, and ``output`` (``position``, the default; ``orientation``
-or ``pose``), so that end-effector singularities can be classified and an
-exported mechanism comes back with its end-effector. Every other key is
+end-effector's, and ``output`` (``position``, the default; ``orientation``,
+``pose``, or ``tool`` with ``axis: [x, y, z]``, the tool's direction in that
+frame's coordinates), so that end-effector singularities can be classified
+and an exported mechanism comes back with its end-effector. Every other key is
 refused, naming it.
 The file is read as :mod:`mechanisms.io` reads a mechanism file (YAML 1.2
 core schema, no anchors or tags, 1 MiB at most); nothing is evaluated.
@@ -28,6 +29,7 @@ core schema, no anchors or tags, 1 MiB at most); nothing is evaluated.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field
 from typing import Optional
 
@@ -42,9 +44,9 @@ CLOSURE_TYPES = ("6d", "3d")
 #: re-typings of a URDF joint besides ``UJOINT_AB``
 JOINT_RETYPES = ("SPHERICAL", "FIXED", "CARDAN")
 _KEYS = ("closed_loop", "type", "name_mot", "joint_name", "joint_type", "end_effector")
-_END_EFFECTOR_KEYS = ("frame", "output")
+_END_EFFECTOR_KEYS = ("frame", "output", "axis")
 #: what an end-effector may output (as :class:`mechanisms.joints.EndEffector`)
-END_EFFECTOR_OUTPUTS = ("position", "orientation", "pose")
+END_EFFECTOR_OUTPUTS = ("position", "orientation", "pose", "tool")
 _AXES = "XYZ"
 
 
@@ -64,6 +66,8 @@ class Closures:
         Joint name → ``"SPHERICAL"``, ``"FIXED"`` or ``"UJOINT_AB"`` (``CARDAN`` read as ``UJOINT_XY``).
     end_effector : tuple of (str, str), optional
         (frame name, output) of the end-effector; None: none.
+    end_effector_axis : tuple of float, optional
+        A ``tool`` output's axis in the frame's coordinates (None for the other outputs).
     """
 
     loops: tuple = ()
@@ -71,6 +75,7 @@ class Closures:
     actuated: tuple = ()
     retyped: dict = field(default_factory=dict)
     end_effector: Optional[tuple] = None
+    end_effector_axis: Optional[tuple] = None
 
 
 def universal_axes(joint_type):
@@ -161,27 +166,45 @@ def closures_from_dict(data, source="closures file"):
             raise MechanismError(f"{source}: field 'joint_type': item {index}: expected SPHERICAL, FIXED, CARDAN "
                                  f"or UJOINT_AB (A, B two different axes of X, Y, Z), got {joint_type!r}"[:300])
         retyped[name] = joint_type
-    return Closures(tuple(pairs), tuple(checked), actuated, retyped, _end_effector(data.get("end_effector"), source))
+    end_effector, axis = _end_effector(data.get("end_effector"), source)
+    return Closures(tuple(pairs), tuple(checked), actuated, retyped, end_effector, axis)
 
 
 def _end_effector(value, source):
-    """(frame, output) of the ``end_effector`` key, or None."""
+    """((frame, output), axis) of the ``end_effector`` key: (None, None) without one; the axis a ``tool``'s."""
     where = f"{source}: field 'end_effector'"
     if value is None:
-        return None
+        return None, None
     if not isinstance(value, dict):
-        raise MechanismError(f"{where}: expected a mapping {{frame: NAME, output: position|orientation|pose}}, "
+        raise MechanismError(f"{where}: expected a mapping {{frame: NAME, output: position|orientation|pose|tool}}, "
                              f"got {type(value).__name__}")
     for key in value:
         if key not in _END_EFFECTOR_KEYS:
-            raise MechanismError(f"{where}: unknown key {key!r} (expected frame, output)")
+            raise MechanismError(f"{where}: unknown key {key!r} (expected frame, output, axis)")
     if "frame" not in value:
         raise MechanismError(f"{where}: field 'frame': missing")
     frame = check_name(value["frame"], f"{where}: field 'frame'")
     output = value.get("output", "position")
     if output not in END_EFFECTOR_OUTPUTS:
-        raise MechanismError(f"{where}: field 'output': expected position, orientation or pose, got {output!r}"[:300])
-    return frame, output
+        raise MechanismError(f"{where}: field 'output': expected position, orientation, pose or tool, "
+                             f"got {output!r}"[:300])
+    return (frame, output), _tool_axis(value.get("axis"), output, f"{where}: field 'axis'")
+
+
+def _tool_axis(axis, output, where):
+    """A ``tool`` output's axis: three finite numbers, not all zero (given for a tool and only for it)."""
+    if output != "tool":
+        if axis is not None:
+            raise MechanismError(f"{where}: only a 'tool' output has an axis")
+        return None
+    if axis is None:
+        raise MechanismError(f"{where}: missing (a 'tool' output needs its axis, [x, y, z] in the frame)")
+    if (not isinstance(axis, list) or len(axis) != 3
+            or not all(isinstance(value, (int, float)) and not isinstance(value, bool) for value in axis)):
+        raise MechanismError(f"{where}: expected three numbers [x, y, z], got {axis!r}"[:300])
+    if not all(math.isfinite(value) for value in axis) or not any(axis):
+        raise MechanismError(f"{where}: expected finite numbers, not all zero, got {axis!r}"[:300])
+    return tuple(float(value) for value in axis)
 
 
 def _no_duplicates(names, where):
@@ -223,4 +246,6 @@ def closures_to_dict(closures):
         data["joint_type"] = list(closures.retyped.values())
     if closures.end_effector is not None:
         data["end_effector"] = {"frame": closures.end_effector[0], "output": closures.end_effector[1]}
+        if closures.end_effector_axis is not None:
+            data["end_effector"]["axis"] = list(closures.end_effector_axis)
     return data

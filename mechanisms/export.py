@@ -21,9 +21,12 @@ about its first then its second axis; a ``C`` turning then sliding). A
 planar mechanism is drawn in the plane z = 0 (axes +z), a spherical one about
 the origin. The URDF's zero configuration is the mechanism's home, so the
 importer finds it closed. URDF link and joint names are the mechanism's;
-inertias are not written (kinematics only). URDF has no end-effector: none
-is written, whatever its output (a ``tool``'s point and ``axis`` included);
-the mechanism file (:mod:`mechanisms.io`) keeps it.
+inertias are not written (kinematics only). URDF has no end-effector: it is
+written as a link ``end_effector`` fixed to the end-effector's link with its
+origin at the end-effector's point (the link's origin for an orientation),
+and named in the closures file's ``end_effector`` key with its output (and a
+``tool``'s ``axis``: the link frames are parallel to the ground's at home, so
+the axis is written as it is).
 """
 
 from __future__ import annotations
@@ -154,9 +157,20 @@ def export_urdf(mechanism):
         add_joint(f"{anchor}_frame", "fixed", second, anchor, origins[leaf])
         loops.append((leaf, anchor))
         types.append("6d")
+    effector, effector_axis = None, None
+    if mechanism.end_effector is not None:
+        link = mechanism.end_effector.link
+        point = mechanism.end_effector.point
+        here = origins[link] if point is None else np.array([*point, 0.0][:3])
+        frame = "end_effector"
+        while frame in links:  # a link of the mechanism has that name
+            frame += "_frame"
+        add_link(frame)
+        add_joint(f"{frame}_frame", "fixed", link, frame, here)
+        effector, effector_axis = (frame, mechanism.end_effector.output), mechanism.end_effector.axis
     ElementTree.indent(robot)
     text = ElementTree.tostring(robot, encoding="unicode") + "\n"
-    return Exported(text, Closures(tuple(loops), tuple(types), tuple(actuated), retyped))
+    return Exported(text, Closures(tuple(loops), tuple(types), tuple(actuated), retyped, effector, effector_axis))
 
 
 def _reversed(joint):

@@ -653,7 +653,7 @@ def import_tree(tree, closures, name=None, source="robot", description=None):
     if closures.end_effector is not None:
         frame, output = closures.end_effector
         link, pose = tree.frame(frame, f"{source}: field 'end_effector': field 'frame'")
-        end_effector = (bodies.body[link], bodies.offset[link] @ pose, output)
+        end_effector = (bodies.body[link], bodies.offset[link] @ pose, output, closures.end_effector_axis)
     length = _length(tree, bodies)
     closure = _Closure(tree, bodies, loops, length)
     point = _assemble(closure, closures.loops, source)
@@ -735,13 +735,14 @@ def _build(tree, bodies, closures, closure, point, poses, frames, name, descript
         raise MechanismError(f"{name}: no movable joint is left to analyse")
     effector = None
     if end_effector is not None:
-        body, offset, output = end_effector
+        body, offset, output, axis = end_effector
         link = union.find(body)
         if link not in {name for joint in joints for name in joint.links}:
             raise MechanismError(f"{source}: field 'end_effector': field 'frame': {closures.end_effector[0]!r} is on "
                                  f"link {body!r}, which is left out (on no loop) or not moved by any joint")
-        point = None if output == "orientation" else tuple((poses[body] @ offset)[:3, 3])
-        effector = EndEffector(link, point, output)
+        frame = poses[body] @ offset
+        point = None if output == "orientation" else tuple(frame[:3, 3])
+        effector = EndEffector(link, point, output, None if axis is None else tuple(frame[:3, :3] @ axis))
     return Mechanism(name, "spatial", joints, ground, effector), notes
 
 

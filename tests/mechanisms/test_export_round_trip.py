@@ -1,13 +1,10 @@
 """The round trip export → import (:mod:`mechanisms.export`, :mod:`mechanisms.urdf`) for every catalogue mechanism
 and every named configuration: the URDF's zero configuration is closed, and the first-order picture is the same
 (the dimension of ker DΦ, the ranks of the actuator and end-effector maps on it). Full classifications of the
-configurations whose verdict rests on the end-effector, carried by the closures file's ``end_effector`` key.
+configurations whose verdict rests on the end-effector, carried by the closures file's ``end_effector`` key (a
+fixed leaf link at the end-effector's point; a ``tool``'s axis with it)."""
 
-The exporter does not write the end-effector yet (mechanisms/export.py is another module's work): these tests add
-to the exported URDF the frame it would write, a fixed leaf link ``end_effector`` at the end-effector's point, and
-name it in the closures."""
-
-from collections import deque
+from xml.etree import ElementTree
 
 import numpy as np
 import pytest
@@ -15,7 +12,7 @@ import pytest
 from classify import classify
 from mechanisms import home
 from mechanisms.catalogue import entries, entry
-from mechanisms.closures import Closures, closures_from_dict, closures_to_dict
+from mechanisms.closures import closures_from_dict, closures_to_dict
 from mechanisms.export import export_urdf
 from mechanisms.kinematics import actuator_jacobian, constraint_jacobian, end_effector_jacobian
 from mechanisms.urdf import import_tree, retype, tree_from_urdf
@@ -25,39 +22,10 @@ pytest.importorskip("yourdfpy")
 CONFIGURATIONS = [(item.name, name) for item in entries() for name in (None, *item.configurations)]
 
 
-def with_end_effector(mechanism, exported):
-    """The exported URDF and closures with the mechanism's end-effector as a frame (see the module's note)."""
-    effector = mechanism.end_effector
-    if effector is None:
-        return exported.urdf, exported.closures
-    tree = tree_from_urdf(exported.urdf, "exported")
-    origins, queue = {tree.root: np.zeros(3)}, deque([tree.root])
-    children = {}
-    for joint in tree.joints:
-        children.setdefault(joint.parent, []).append(joint)
-    while queue:  # every link frame of the export is parallel to the ground's: origins add up
-        link = queue.popleft()
-        for joint in children.get(link, ()):
-            origins[joint.child] = origins[link] + joint.placement[:3, 3]
-            queue.append(joint.child)
-    point = origins[effector.link] if effector.point is None else np.array([*effector.point, 0.0][:3])
-    offset = " ".join(repr(float(value)) for value in point - origins[effector.link])
-    urdf = exported.urdf.replace("</robot>", f"""  <link name="end_effector" />
-  <joint name="end_effector_frame" type="fixed">
-    <origin xyz="{offset}" rpy="0 0 0" />
-    <parent link="{effector.link}" />
-    <child link="end_effector" />
-  </joint>
-</robot>""")
-    closures = exported.closures
-    return urdf, Closures(closures.loops, closures.types, closures.actuated, closures.retyped,
-                          ("end_effector", effector.output))
-
-
 def round_trip(mechanism):
-    urdf, closures = with_end_effector(mechanism, export_urdf(mechanism))
-    closures = closures_from_dict(closures_to_dict(closures))
-    return import_tree(retype(tree_from_urdf(urdf, "exported"), closures), closures, mechanism.name)
+    exported = export_urdf(mechanism)
+    closures = closures_from_dict(closures_to_dict(exported.closures))
+    return import_tree(retype(tree_from_urdf(exported.urdf, "exported"), closures), closures, mechanism.name)
 
 
 def first_order(mechanism, point):
@@ -99,7 +67,8 @@ def summary(report):
 
 @pytest.mark.parametrize("name, configuration", [
     ("slider-crank", "fig3c_dead_centre"),  # an end-effector singularity (Park & Kim 1999, Fig. 3c)
-    ("5-spu", None),  # the tool's free spin: an architecture singularity, seen only with the end-effector
+    ("5-spu", "eq33_w_zero"),  # a tool output (Borràs, Thomas & Torras 2011, eq. 33), its spin an idle freedom
+    ("gough-stewart", "eq87_parallel_legs"),  # an idle freedom that moves the end-effector (Park & Kim 1999, eq. 87)
     ("spherical-3rrr", "eq70_leg1_extended"),  # an orientation end-effector (Gosselin & Angeles 1990, eq. 70)
 ])
 def test_end_effector_verdicts_survive_the_round_trip(name, configuration):
@@ -116,9 +85,38 @@ def test_end_effector_key_is_read_and_checked():
     data = {"closed_loop": [["a", "b"]], "end_effector": {"frame": "tool", "output": "pose"}}
     assert closures_from_dict(data).end_effector == ("tool", "pose")
     assert closures_from_dict({"end_effector": {"frame": "tool"}}).end_effector == ("tool", "position")
+    tool = closures_from_dict({"end_effector": {"frame": "spindle", "output": "tool", "axis": [0, 0, 2]}})
+    assert (tool.end_effector, tool.end_effector_axis) == (("spindle", "tool"), (0.0, 0.0, 2.0))
+    assert closures_from_dict(closures_to_dict(tool)) == tool
     from mechanisms import MechanismError
 
     for bad, message in (({"frame": "tool", "output": "speed"}, "field 'output'"), ({"output": "pose"}, "'frame'"),
-                         ({"frame": "tool", "axis": 1}, "unknown key 'axis'"), ("tool", "expected a mapping")):
+                         ({"frame": "tool", "axis": [0, 0, 1]}, "only a 'tool' output has an axis"),
+                         ({"frame": "tool", "output": "tool"}, "'axis': missing"),
+                         ({"frame": "tool", "output": "tool", "axis": [0, 0]}, "three numbers"),
+                         ({"frame": "tool", "output": "tool", "axis": [0, 0, 0]}, "not all zero"),
+                         ({"frame": "tool", "output": "tool", "axis": [0, "1", 0]}, "three numbers"),
+                         ({"frame": "tool", "gripper": 1}, "unknown key 'gripper'"), ("tool", "expected a mapping")):
         with pytest.raises(MechanismError, match=message):
             closures_from_dict({"end_effector": bad}, "c.yaml")
+
+
+def test_a_tool_axis_is_read_in_its_frame_coordinates():
+    """The closures' ``axis`` is in the frame's coordinates: a frame turned by a quarter turn about x, given the
+    axis turned back, gives the same tool (Borràs, Thomas & Torras 2011: the 5-SPU's tool)."""
+    item = entry("5-spu")
+    mechanism = item.assemble(item.values(None))
+    exported = export_urdf(mechanism)
+    frame = exported.closures.end_effector[0]
+    robot = ElementTree.fromstring(exported.urdf)
+    robot.find(f"joint[@name='{frame}_frame']/origin").set("rpy", "1.5707963267948966 0 0")
+    turned = ElementTree.tostring(robot, encoding="unicode")
+    x, y, z = mechanism.end_effector.axis
+    data = closures_to_dict(exported.closures)
+    data["end_effector"]["axis"] = [x, z, -y]  # R_x(90°)ᵀ · axis
+    closures = closures_from_dict(data)
+    imported = import_tree(retype(tree_from_urdf(turned, "turned"), closures), closures, "turned").mechanism
+    axis = np.asarray(imported.end_effector.axis)
+    np.testing.assert_allclose(axis / np.linalg.norm(axis), np.asarray(mechanism.end_effector.axis)
+                               / np.linalg.norm(mechanism.end_effector.axis), atol=1e-12)
+    np.testing.assert_allclose(imported.end_effector.point, mechanism.end_effector.point, atol=1e-12)
