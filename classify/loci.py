@@ -1,4 +1,5 @@
-"""Singularity loci of 1- and 2-dof mechanisms, traced as curves on M and confirmed by :func:`classify.classify`.
+"""Singularity loci of 1-, 2- and 3-dof mechanisms, traced as curves on M (3 dof: in sections) and confirmed by
+:func:`classify.classify`.
 
 **Sign functions.** Where the constraint rows kept, Φ_r (r rows of DΦ
 independent at the starting configuration, chosen once by a pivoted QR, so
@@ -19,10 +20,12 @@ Angeles 1998 eqs. 3b–3c: det A and det B):
 
 The actuator function needs as many actuated coordinates as degrees of
 freedom (r + a = k); otherwise the kind is not traced and the coverage says
-so.
+so. With more (redundant actuation), the actuator singularities of a 1- or
+2-dof mechanism are searched for as points instead
+(:func:`redundant_actuator_function`, as the C-space singularities below).
 
 **2 dof.** A grid over two coordinates is assembled by continuation from a
-starting configuration (:func:`classify.cli.map_command.assemble_grid`: the
+starting configuration (:func:`classify.grid_continuation.assemble_grid`: the
 starting configuration's branch). Seeds are the grid edges along which a sign
 function changes sign, and the edges from a reached point to an unreached one
 (the reach of a branch ends at a fold, often an actuator singularity). Each
@@ -35,6 +38,17 @@ it comes back to its start (a closed curve), a corrector fails four times
 halved, or :data:`STEP_LIMIT` steps. Seeds within two steps of a traced
 curve are covered by it.
 
+**3 dof.** The loci are surfaces of M, traced as curves in sections: at n
+values c of a third coordinate x_c (the section coordinate; a displacement
+from home, an angle's difference wrapped to [−π, π)), the curve
+``{Φ = 0, s = 0, x_c = c}`` is traced exactly as a 2-dof curve (the same
+seeds, corrector and predictor, with one more row, ``h(p) = x_c(p) − c``,
+whose gradient is taken by the same central differences). The grids of all
+the sections are one grid, the section coordinate its first axis, assembled
+by one continuation from the starting configuration: every section is on
+its branch. Each piece records its section value; the coverage gives, per
+section, the grid points reached, the seeds and the pieces found.
+
 **1 dof.** M itself is the curve ``{Φ = 0}``, followed the same way from
 points of M sampled over its branches (:func:`manifold.sample_manifold`) and
 the starting configuration: each traced curve is one branch. The loci are
@@ -42,6 +56,17 @@ points: where s_a or s_e changes sign between consecutive points of a branch,
 corrected onto ``{Φ = 0, s = 0}`` (a square system). A C-space singularity
 (a branch point, where two branches cross) is a zero of both, found the same
 way.
+
+**C-space singularities, searched for.** Besides the C-space points the
+traced curves pass through, 1- and 2-dof loci with the kind ``cspace`` search
+for them deliberately (:func:`search_cspace`): σ_r, the r-th singular value
+of DΦ·diag(s) (r the constraint rank of M's regular points), vanishes on M
+exactly at the C-space singularities (Park & Kim 1999, Section 3), so from
+the points where σ_r is locally smallest — over the assembled grid (2 dof),
+along the traced branches (1 dof) — Gauss–Newton on ``(Φ, σ_r)`` finds the
+C-space singularities near them whether or not an actuator or end-effector
+locus passes through them. The coverage's ``cspace_search`` counts the
+seeds, the points found and those the classification confirms.
 
 **Confirmation.** Every point traced for a kind is classified
 (:func:`classify.classify_many`, one batch); the points the classification
@@ -56,8 +81,10 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-__all__ = ["default_columns", "TOLERANCE", "STEP_LIMIT", "LocusPiece", "Loci", "sign_functions", "trace_loci", "TRACEABLE_KINDS",
-           "locus_coordinates"]
+__all__ = ["default_columns", "TOLERANCE", "STEP_LIMIT", "SECTION_COUNT", "LocusPiece", "Loci", "sign_functions",
+           "trace_loci", "TRACEABLE_KINDS", "locus_coordinates", "cspace_function", "search_cspace",
+           "CSPACE_TOLERANCE", "CSPACE_ITERATIONS",
+           "redundant_actuator_function"]
 
 #: ‖(Φ, s)‖ of a corrected locus point
 TOLERANCE = 1e-11
@@ -65,6 +92,12 @@ TOLERANCE = 1e-11
 STEP_LIMIT = 1500
 #: the kinds a sign function exists for (C-space points are found as zeros of both)
 TRACEABLE_KINDS = ("actuator", "end_effector")
+#: ‖(Φ, σ_r)‖ of a C-space singularity found by :func:`search_cspace` (σ_r's gradient is a difference quotient
+#: of DΦ, step 1e-6, whose error keeps σ_r from falling much below 1e-9), and the most Gauss–Newton steps to it
+CSPACE_TOLERANCE = 1e-8
+CSPACE_ITERATIONS = 200
+#: sections of a 3-dof locus when the caller gives no count
+SECTION_COUNT = 4
 #: finite-difference step of ∇s (dimensionless)
 _DIFFERENCE = 1e-6
 
@@ -82,13 +115,17 @@ class LocusPiece:
     closed : bool
         Whether the curve comes back to its first point.
     residuals : ndarray, shape=[n]
-        ‖(Φ, s)‖ at each point.
+        ‖(Φ, s)‖ at each point (3 dof: ‖(Φ, s, x_c − c)‖).
+    section : float or None
+        3 dof: the value c of the section coordinate x_c the piece lies in (a displacement from home);
+        None for 1 and 2 dof.
     """
 
     kind: str
     points: np.ndarray
     closed: bool
     residuals: np.ndarray
+    section: object = None
 
 
 @dataclass(frozen=True, eq=False)
@@ -101,13 +138,16 @@ class Loci:
     branches : tuple of LocusPiece
         1 dof: the traced curves of M (kind ``"branch"``); 2 dof: empty.
     samples : ndarray, shape=[n, point_size]
-        The points of M the search started from (the assembled grid, or the sampled points).
+        The points of M the search started from (the reached points of the assembled grid, every section's
+        for 3 dof, or the sampled points).
     sample_signs : ndarray, shape=[n, 2]
         The signs of s_a and s_e at the samples (0 where not defined): the assembly and working modes.
     coverage : dict
-        ``dof``, ``grid`` (names and counts, 2 dof), ``reached`` grid points, ``seeds``, ``pieces``,
+        ``dof``, ``grid`` (names and counts, 2 and 3 dof), ``reached`` grid points, ``seeds``, ``pieces``,
         ``closed`` per piece, ``unconfirmed`` (points dropped per kind), ``not_traced`` (kinds and why),
-        ``tolerance``, ``step``.
+        ``tolerance``, ``step``; 3 dof: ``section`` ({name: [a, b, n]}) and ``sections`` (per section its
+        ``value``, grid points ``reached``, ``seeds`` and ``pieces`` per kind); 1 and 2 dof with ``cspace``:
+        ``cspace_search`` (``seeds``, ``found``, ``confirmed``); redundant actuation: ``actuator_search`` (the same).
     """
 
     pieces: tuple
@@ -208,27 +248,214 @@ def _gradient(ambient, function, points):
     return (values[:, 0] - values[:, 1]) / (2 * _DIFFERENCE * scales)
 
 
-def _curve_manifold(model, function):
-    """The implicit manifold {Φ = 0, s = 0} (or M itself when `function` is None)."""
+def _curve_manifold(model, function, section=None):
+    """The implicit manifold {Φ = 0, s = 0} (or M itself when `function` is None); with a `section` function h
+    (3 dof, :func:`_section_function`) the curve {Φ = 0, s = 0, h = 0}."""
     from manifold import ImplicitManifold
 
     manifold = model.manifold
     if function is None:
         return manifold
+    functions = [function] if section is None else [function, section]
 
     def constraint(points):
         points = np.asarray(points, dtype=float)
-        return np.concatenate([manifold.constraint(points), function(points)[..., None]], axis=-1)
+        flat = points.reshape(-1, points.shape[-1])
+        extra = np.stack([extra_function(flat) for extra_function in functions], axis=-1)
+        return np.concatenate([manifold.constraint(points), extra.reshape(points.shape[:-1] + (len(functions),))],
+                              axis=-1)
+
+    def jacobian(points):
+        points = np.asarray(points, dtype=float)
+        flat = points.reshape(-1, points.shape[-1])
+        gradients = [_gradient(manifold.ambient, extra_function, flat)[:, None, :] for extra_function in functions]
+        rows = np.concatenate([np.asarray(manifold.constraint_jacobian(flat), dtype=float).reshape(
+            len(flat), -1, manifold.ambient.dim)] + gradients, axis=1)
+        return rows.reshape(points.shape[:-1] + rows.shape[-2:])
+
+    return ImplicitManifold(ambient=manifold.ambient, constraint=constraint, constraint_jacobian=jacobian,
+                            is_solution=manifold.is_solution)
+
+
+def _section_function(mechanism, column, value):
+    """h(p) = x_c(p) − c, the section coordinate's displacement from home minus the section's value (an angle's
+    difference wrapped to [−π, π)), shape=[n]."""
+    from .displacements import displacements_of
+
+    angle = _is_angle(mechanism, column)
+
+    def section(points):
+        difference = displacements_of(mechanism, points)[:, column] - value
+        return (difference + np.pi) % (2 * np.pi) - np.pi if angle else difference
+
+    return section
+
+
+def cspace_function(model, rank):
+    """σ_r(p), the r-th largest singular value of DΦ(p)·diag(s), and its gradient on the ambient space.
+
+    Zero on M iff rank DΦ < r, r the constraint rank of M's regular points: a
+    C-space singularity (Park & Kim 1999, Section 3). Its gradient in the
+    tangent coordinates is ``∂_j σ_r = u_rᵀ ∂_j(DΦ·diag(s)) v_r`` (u_r, v_r the
+    singular vectors of σ_r; ∂_j DΦ by central differences, step 1e-6,
+    dimensionless), the derivative of σ_r wherever it is a simple singular
+    value, and a one-sided one at σ_r = 0.
+
+    Parameters
+    ----------
+    model : Model
+    rank : int
+        r (the survey's constraint rank).
+
+    Returns
+    -------
+    value : callable
+        ``value(points [n, point_size]) -> [n]``.
+    gradient : callable
+        ``gradient(points [n, point_size]) -> [n, k]``.
+    """
+    manifold = model.manifold
+    scales = manifold.ambient.tangent_scales
+
+    def jacobian(points):
+        return np.asarray(manifold.constraint_jacobian(points), dtype=float) * scales
+
+    return _singular_value_function(manifold.ambient, jacobian, rank)
+
+
+def redundant_actuator_function(model):
+    """σ_k(p), the k-th (smallest) singular value of ``[DΦ(p)·diag(s); U·diag(s)]``, and its gradient.
+
+    U the unit actuator rows (as :func:`sign_functions`). With more actuated
+    coordinates than degrees of freedom (redundant actuation: r + a > k) the
+    stacked matrix is not square, and the actuator singularities — ker DΦ ∩
+    ker Dπ ≠ 0, a motion with every actuator still (Park & Kim 1999,
+    Section 3) — are where its rank drops below k: the zeros of σ_k on M,
+    which does not change sign there (so they are searched for, as the
+    C-space singularities are, not traced by a sign change).
+
+    Parameters
+    ----------
+    model : Model
+
+    Returns
+    -------
+    value : callable
+        ``value(points [n, point_size]) -> [n]``.
+    gradient : callable
+        ``gradient(points [n, point_size]) -> [n, k]`` (as :func:`cspace_function`).
+    """
+    from .survey import unit_actuator_rows
+
+    manifold = model.manifold
+    scales = manifold.ambient.tangent_scales
+    actuators = unit_actuator_rows(model)[0] * scales
+
+    def stacked(points):
+        points = np.asarray(points, dtype=float)
+        constraint_rows = np.asarray(manifold.constraint_jacobian(points), dtype=float) * scales
+        return np.concatenate([constraint_rows, np.broadcast_to(actuators, points.shape[:-1] + actuators.shape)],
+                              axis=-2)
+
+    return _singular_value_function(manifold.ambient, stacked, manifold.ambient.dim)
+
+
+def _singular_value_function(ambient, matrix, index):
+    """The `index`-th largest singular value of ``matrix(points)`` [n, rows, k] and its gradient
+    ``u_iᵀ ∂_j matrix v_i`` (∂_j by central differences, step 1e-6 dimensionless)."""
+    scales = ambient.tangent_scales
+
+    def value(points):
+        return np.linalg.svd(matrix(np.atleast_2d(points)), compute_uv=False)[:, index - 1]
+
+    def gradient(points):
+        points = np.atleast_2d(points)
+        left, _, right = np.linalg.svd(matrix(points))
+        steps = np.eye(ambient.dim) * (_DIFFERENCE * scales)
+        forward = matrix(ambient.retract(points[:, None, :], steps[None]))
+        backward = matrix(ambient.retract(points[:, None, :], -steps[None]))
+        derivative = (forward - backward) / (2 * _DIFFERENCE * scales)[None, :, None, None]
+        return np.einsum("nc,njcd,nd->nj", left[:, :, index - 1], derivative, right[:, index - 1, :])
+
+    return value, gradient
+
+
+def _zero_manifold(model, value, gradient):
+    """{Φ = 0, σ = 0} (σ a singular-value function: :func:`cspace_function`, :func:`redundant_actuator_function`)
+    as an implicit manifold, for the Gauss–Newton corrector."""
+    from manifold import ImplicitManifold
+
+    manifold = model.manifold
+
+    def constraint(points):
+        points = np.asarray(points, dtype=float)
+        flat = points.reshape(-1, points.shape[-1])
+        rows = np.concatenate([np.asarray(manifold.constraint(flat), dtype=float), value(flat)[:, None]], axis=-1)
+        return rows.reshape(points.shape[:-1] + rows.shape[-1:])
 
     def jacobian(points):
         points = np.asarray(points, dtype=float)
         flat = points.reshape(-1, points.shape[-1])
         rows = np.concatenate([np.asarray(manifold.constraint_jacobian(flat), dtype=float).reshape(
-            len(flat), -1, manifold.ambient.dim), _gradient(manifold.ambient, function, flat)[:, None, :]], axis=1)
+            len(flat), -1, manifold.ambient.dim), gradient(flat)[:, None, :]], axis=1)
         return rows.reshape(points.shape[:-1] + rows.shape[-2:])
 
     return ImplicitManifold(ambient=manifold.ambient, constraint=constraint, constraint_jacobian=jacobian,
                             is_solution=manifold.is_solution)
+
+
+def search_cspace(model, survey, seeds, step):
+    """C-space singularities searched for from seed configurations: each seed corrected onto {Φ = 0, σ_r = 0}.
+
+    Gauss–Newton (:func:`manifold.project`, steps of at most 4 `step`) on
+    ``(Φ, σ_r)`` (:func:`cspace_function`) from each seed, to ``‖(Φ, σ_r)‖ ≤``
+    :data:`CSPACE_TOLERANCE` in at most :data:`CSPACE_ITERATIONS` steps
+    (at a C-space singularity, where branches cross, the Jacobian of
+    ``(Φ, σ_r)`` loses rank and Gauss–Newton converges only linearly, halving
+    σ_r about every other step), then Φ to :data:`TOLERANCE` on M; a seed
+    whose corrector fails, or that lands within `step` of a point already
+    found, gives nothing. A search, not a trace:
+    it finds the C-space singularities near the seeds whether or not an
+    actuator or end-effector locus passes through them (the caller confirms
+    them with the classification).
+
+    Parameters
+    ----------
+    model : Model
+    survey : Survey
+    seeds : ndarray, shape=[n, point_size]
+        Configurations on (or near) M: local minima of σ_r over a grid or along a branch.
+    step : float
+        Dimensionless: the corrector's step bound / 4, and the distance under which two points are one.
+
+    Returns
+    -------
+    points : ndarray, shape=[m, point_size]
+    residuals : ndarray, shape=[m]
+        ``‖(Φ, σ_r)‖`` at each.
+    """
+    return _search_zeros(model, *cspace_function(model, survey.constraint_rank), seeds, step)
+
+
+def _search_zeros(model, value, gradient, seeds, step):
+    """The zeros on M of a singular-value function near the seeds (:func:`search_cspace`)."""
+    from manifold import ProjectionError, project
+
+    curve = _zero_manifold(model, value, gradient)
+    ambient = curve.ambient
+    found = []
+    for seed in np.atleast_2d(seeds):
+        try:
+            on = project(curve, seed, tolerance=CSPACE_TOLERANCE, max_iterations=CSPACE_ITERATIONS,
+                         max_step=4 * step * ambient.tangent_scales.max())
+            on = project(model.manifold, on, tolerance=TOLERANCE)  # Φ to the loci's tolerance (a move ≪ 1e-8)
+        except ProjectionError:
+            continue
+        if (curve.is_solution is not None and not curve.is_solution(on)) or (found and _distances(ambient, on[None], np.array(found))[0] < step):
+            continue
+        found.append(on)
+    points = np.array(found).reshape(-1, ambient.point_size)
+    return points, _residuals(curve, points) if len(points) else np.zeros(0)
 
 
 # ------------------------------------------------------------------------------------------------ curves
@@ -326,7 +553,7 @@ def _trace_from_seeds(curve, seeds, step):
 def _grid_seeds(points, reached, shape, values):
     """The seed points of a 2-D grid: per kind, the endpoint of smaller |s| of each sign-changing edge, and the
     reached end of each edge to an unreached point (for every kind)."""
-    from .cli.map_command import grid_neighbours
+    from .grid_continuation import grid_neighbours
 
     neighbours = grid_neighbours(shape)
     seeds = {kind: [] for kind in values}
@@ -357,7 +584,7 @@ def _sign_changes(curve_points, function):
 
 # ------------------------------------------------------------------------------------------------ confirmation
 
-def _confirmed(model, survey, kind, points, residuals, closed):
+def _confirmed(model, survey, kind, points, residuals, closed, section=None):
     """Split a traced curve where `classify` does not confirm the kind; (pieces, dropped, cspace points)."""
     from .batch import classify_many
     from .report import KINDS
@@ -369,7 +596,7 @@ def _confirmed(model, survey, kind, points, residuals, closed):
     runs = np.split(np.arange(len(points)), np.flatnonzero(np.diff(good.astype(int)) != 0) + 1)
     for run in runs:
         if len(run) and good[run[0]]:
-            pieces.append(LocusPiece(kind, points[run], bool(closed and good.all()), residuals[run]))
+            pieces.append(LocusPiece(kind, points[run], bool(closed and good.all()), residuals[run], section))
     return pieces, int((~good).sum()), cspace
 
 
@@ -381,7 +608,7 @@ def _residuals(curve, points):
 
 def trace_loci(mechanism, start, columns=None, ranges=None, counts=(24, 24), kinds=("actuator", "end_effector"),
                rng=None, survey=None, sample_count=24):
-    """Trace the singularity loci of a 1- or 2-dof mechanism (see the module notes).
+    """Trace the singularity loci of a 1-, 2- or 3-dof mechanism (see the module notes).
 
     Parameters
     ----------
@@ -389,16 +616,17 @@ def trace_loci(mechanism, start, columns=None, ranges=None, counts=(24, 24), kin
     start : ndarray, shape=[point_size]
         A configuration of M (its branch is the grid's).
     columns : sequence of int, optional
-        2 dof: the two tangent coordinates of the grid (default the actuated ones, else the first two).
-        1 dof: ignored.
-    ranges : sequence of (float, float), optional
-        2 dof: the grid's range per coordinate, displacements from home (default (−π, π) for angles, ±2
-        characteristic lengths for lengths, around the start's values).
-    counts : (int, int)
-        Grid points per axis.
+        2 dof: the two tangent coordinates of the grid; 3 dof: the grid's two then the section coordinate
+        (default :func:`default_columns`). 1 dof: ignored.
+    ranges : sequence of (float, float) or None, optional
+        2 and 3 dof: the range per coordinate, displacements from home; a None entry (or a missing third) is
+        defaulted: (−π, π) for angles, ±2 characteristic lengths for lengths, around the start's values; a
+        section angle's default is a turn without its end, so its n sections are evenly spaced around it.
+    counts : (int, int) or (int, int, int)
+        Grid points per axis (≥ 2); 3 dof: then the number of sections (default :data:`SECTION_COUNT`).
     kinds : sequence of str
-        Among ``actuator``, ``end_effector`` and ``cspace`` (C-space points are the zeros of both sign
-        functions that classify finds C-space singular).
+        Among ``actuator``, ``end_effector`` and ``cspace`` (C-space points: the points of the traced curves
+        that classify finds C-space singular, and, for 1 and 2 dof, those :func:`search_cspace` finds).
     rng : numpy.random.Generator, optional
         For the sampling of M (1 dof); default seeded 0.
     survey : Survey, optional
@@ -422,39 +650,24 @@ def trace_loci(mechanism, start, columns=None, ranges=None, counts=(24, 24), kin
     ambient = manifold.ambient
     start = np.asarray(start, dtype=float)
     dof = int(ambient.dim - survey.constraint_rank)
-    if dof not in (1, 2):
-        raise ValueError(f"loci are traced for 1- and 2-dof mechanisms; this one has {dof} dof")
+    if dof not in (1, 2, 3):
+        raise ValueError(f"loci are traced for 1-, 2- and 3-dof mechanisms; this one has {dof} dof")
     functions, refused = sign_functions(model, _regular_reference(model, survey, start, rng))
+    redundant = len(model.actuators) > dof  # more actuated coordinates than degrees of freedom
     traced_kinds = [kind for kind in TRACEABLE_KINDS if kind in functions
                     and (kind in kinds or "cspace" in kinds)]
     not_traced = {kind: refused[kind] for kind in kinds if kind in refused}
     coverage = {"dof": dof, "tolerance": TOLERANCE, "not_traced": not_traced}
     pieces, branches, unconfirmed, branch_points = [], [], {}, []
 
-    if dof == 2:
-        columns, ranges, counts = _grid_arguments(mechanism, start, columns, ranges, counts)
-        samples, reached = _assembled_grid(mechanism, start, columns, ranges, counts)
-        spacing = min((high - low) / max(count - 1, 1) / ambient.tangent_scales[column]
-                      for column, (low, high), count in zip(columns, ranges, counts))
-        step = spacing / 2
-        values = {kind: functions[kind](samples[reached]) if reached.any() else np.zeros(0) for kind in traced_kinds}
-        full_values = {kind: np.zeros(len(samples)) for kind in traced_kinds}
-        for kind in traced_kinds:
-            full_values[kind][reached] = values[kind]
-        seeds = _grid_seeds(np.nan_to_num(samples), reached, tuple(counts), full_values)
-        coverage.update({"grid": {mechanism.coordinate_names[column]: [low, high, count] for column, (low, high), count
-                                  in zip(columns, ranges, counts)},
-                         "reached": int(reached.sum()), "grid_points": int(len(samples)),
-                         "seeds": {kind: int(len(seeds[kind])) for kind in traced_kinds}, "step": step})
-        samples = samples[reached]
-        for kind in traced_kinds:
-            curve = _curve_manifold(model, functions[kind])
-            for points, closed in _trace_from_seeds(curve, seeds[kind], step):
-                found, dropped, cspace = _confirmed(model, survey, kind, points, _residuals(curve, points), closed)
-                unconfirmed[kind] = unconfirmed.get(kind, 0) + dropped
-                branch_points += list(cspace)
-                if kind in kinds:
-                    pieces += found
+    if dof in (2, 3):
+        columns, ranges, counts = _grid_arguments(mechanism, start, columns, ranges, counts, dof)
+        grid, reached, step = _trace_sections(mechanism, model, survey, start, columns, ranges, counts, functions,
+                                              traced_kinds, kinds, coverage, pieces, unconfirmed, branch_points)
+        samples = grid[reached]
+
+        def minima(function):
+            return _grid_minima(function, grid, reached, tuple(counts))
     else:
         samples = sample_manifold(manifold, rng, start[None], random_count=sample_count, walk_count=sample_count)
         step = 0.05
@@ -479,12 +692,25 @@ def trace_loci(mechanism, start, columns=None, ranges=None, counts=(24, 24), kin
                     pieces += found
         coverage["branches"] = len(branches)
         coverage["branches_closed"] = [branch.closed for branch in branches]
+
+        def minima(function):
+            return _branch_minima(function, [branch.points for branch in branches], ambient.point_size)
+    if dof in (1, 2) and "cspace" in kinds:
+        function = cspace_function(model, survey.constraint_rank)
+        branch_points[:0] = _searched(model, survey, "cspace", function, minima(function[0]), step, coverage)
+    if dof in (1, 2) and "actuator" in kinds and "actuator" not in functions and redundant:
+        function = redundant_actuator_function(model)
+        found = _searched(model, survey, "actuator", function, minima(function[0]), step, coverage)
+        pieces += [LocusPiece("actuator", point[None], False, _residuals(_zero_manifold(model, *function),
+                                                                          point[None])) for point in found]
+        not_traced["actuator"] += "; searched for as points (the zeros of the stacked matrix's k-th singular value)"
     if "cspace" in kinds:
         unique = []
         for candidate in branch_points:
-            if not unique or _distances(ambient, candidate[None], np.array(unique))[0] > 10 * step:
+            if not unique or _distances(ambient, candidate[None], np.array(unique))[0] > step:
                 unique.append(candidate)
-        pieces += [LocusPiece("cspace", candidate[None], False, _residuals(manifold, candidate[None]))
+        pieces += [LocusPiece("cspace", candidate[None], False, _residuals(manifold, candidate[None]),
+                              _section_of(mechanism, columns, coverage, candidate) if dof == 3 else None)
                    for candidate in unique]
     signs = np.zeros((len(samples), 2))
     for column, kind in enumerate(TRACEABLE_KINDS):
@@ -493,6 +719,106 @@ def trace_loci(mechanism, start, columns=None, ranges=None, counts=(24, 24), kin
     coverage.update({"pieces": {kind: sum(piece.kind == kind for piece in pieces) for kind in kinds},
                      "closed": [piece.closed for piece in pieces], "unconfirmed": unconfirmed})
     return Loci(tuple(pieces), tuple(branches), samples, signs, coverage)
+
+
+def _trace_sections(mechanism, model, survey, start, columns, ranges, counts, functions, traced_kinds, kinds,
+                    coverage, pieces, unconfirmed, branch_points):
+    """2 and 3 dof: the grid assembled, its seeds, and the curves traced from them, section by section (one
+    section, without a section constraint, for 2 dof); fills `coverage`, `pieces`, `unconfirmed`,
+    `branch_points`; returns (reached samples [n, point_size], reached [grid points], step)."""
+    ambient = model.manifold.ambient
+    samples, reached = _assembled_grid(mechanism, start, columns[2:] + columns[:2], ranges[2:] + ranges[:2],
+                                       counts[2:] + counts[:2])
+    spacing = min((high - low) / max(count - 1, 1) / ambient.tangent_scales[column]
+                  for column, (low, high), count in zip(columns[:2], ranges[:2], counts[:2]))
+    step = spacing / 2
+    full_values = {kind: np.zeros(len(samples)) for kind in traced_kinds}
+    for kind in traced_kinds:
+        if reached.any():
+            full_values[kind][reached] = functions[kind](samples[reached])
+    sections = [None] if len(columns) == 2 else np.linspace(ranges[2][0], ranges[2][1], counts[2]).tolist()
+    size = counts[0] * counts[1]
+    seed_counts = {kind: 0 for kind in traced_kinds}
+    per_section = []
+    for index, value in enumerate(sections):
+        part = slice(index * size, (index + 1) * size)
+        seeds = _grid_seeds(np.nan_to_num(samples[part]), reached[part], tuple(counts[:2]),
+                            {kind: full_values[kind][part] for kind in traced_kinds})
+        section = None if value is None else _section_function(mechanism, columns[2], value)
+        found_here = {kind: 0 for kind in kinds}
+        for kind in traced_kinds:
+            seed_counts[kind] += len(seeds[kind])
+            curve = _curve_manifold(model, functions[kind], section)
+            for points, closed in _trace_from_seeds(curve, seeds[kind], step):
+                found, dropped, cspace = _confirmed(model, survey, kind, points, _residuals(curve, points), closed,
+                                                    value)
+                unconfirmed[kind] = unconfirmed.get(kind, 0) + dropped
+                branch_points += list(cspace)
+                if kind in kinds:
+                    pieces += found
+                    found_here[kind] += len(found)
+        if value is not None:
+            per_section.append({"value": value, "reached": int(reached[part].sum()),
+                                "seeds": {kind: int(len(seeds[kind])) for kind in traced_kinds},
+                                "pieces": {kind: count for kind, count in found_here.items() if kind != "cspace"}})
+    names = [mechanism.coordinate_names[column] for column in columns]
+    coverage.update({"grid": {name: [low, high, count] for name, (low, high), count
+                              in zip(names[:2], ranges[:2], counts[:2])},
+                     "reached": int(reached.sum()), "grid_points": int(len(samples)),
+                     "seeds": {kind: int(count) for kind, count in seed_counts.items()}, "step": step})
+    if len(columns) == 3:
+        coverage["section"] = {names[2]: [ranges[2][0], ranges[2][1], counts[2]]}
+        coverage["sections"] = per_section
+    return samples, reached, step
+
+
+def _section_of(mechanism, columns, coverage, point):
+    """The section value (of ``coverage["sections"]``) a 3-dof point lies in: the nearest to its section
+    coordinate."""
+    values = np.array([entry["value"] for entry in coverage["sections"]])
+    offset = _section_function(mechanism, columns[2], 0.0)(point[None])[0] - values
+    if _is_angle(mechanism, columns[2]):
+        offset = (offset + np.pi) % (2 * np.pi) - np.pi
+    return float(values[np.argmin(np.abs(offset))])
+
+
+def _grid_minima(value, grid, reached, shape):
+    """The reached grid points where `value` (a singular-value function) is no larger than at any reached
+    neighbour, smallest first, shape=[n, point_size]."""
+    from .grid_continuation import grid_neighbours
+
+    values = np.full(len(grid), np.inf)
+    if reached.any():
+        values[reached] = value(grid[reached])
+    neighbours = grid_neighbours(shape)
+    around = np.where(neighbours >= 0, values[np.maximum(neighbours, 0)], np.inf)
+    minima = np.flatnonzero(reached & (values <= around.min(axis=1)))
+    return grid[minima[np.argsort(values[minima], kind="stable")]]
+
+
+def _branch_minima(value, branches, point_size):
+    """The points of traced branches of M where `value` is no larger than at the points before and after."""
+    seeds = []
+    for points in branches:
+        values = value(points)
+        before, after = np.roll(values, 1), np.roll(values, -1)
+        before[0], after[-1] = np.inf, np.inf
+        seeds += list(points[(values <= before) & (values <= after)])
+    return np.array(seeds).reshape(-1, point_size)
+
+
+def _searched(model, survey, kind, functions, seeds, step, coverage):
+    """The zeros of a singular-value function found from `seeds` (:func:`search_cspace`) that the classification
+    confirms of `kind` (a list of points); the counts go in ``coverage[kind + "_search"]``."""
+    from .batch import classify_many
+    from .report import KINDS
+
+    points, _ = _search_zeros(model, *functions, seeds, step) if len(seeds) else (np.zeros((0, 0)), None)
+    confirmed = []
+    if len(points):
+        confirmed = list(points[classify_many(model, points, survey=survey).singular[:, KINDS.index(kind)]])
+    coverage[f"{kind}_search"] = {"seeds": int(len(seeds)), "found": int(len(points)), "confirmed": len(confirmed)}
+    return confirmed
 
 
 def _regular_reference(model, survey, start, rng):
@@ -511,29 +837,42 @@ def _regular_reference(model, survey, start, rng):
     raise ValueError("no configuration of M near the start where DΦ has its largest rank")
 
 
-def _grid_arguments(mechanism, start, columns, ranges, counts):
-    """Default grid columns (the actuated coordinates, else the first two) and ranges (a turn around the start
-    for angles, ±2 characteristic lengths for lengths)."""
-    from .cli._configurations import displacements_of
+def _grid_arguments(mechanism, start, columns, ranges, counts, dof=2):
+    """The grid's columns, ranges and counts with their defaults (see :func:`trace_loci`): 2 dof two axes; 3 dof
+    three, the last the section coordinate."""
+    from mechanisms.kinematics import kinematics_of
 
-    if columns is None:
-        actuated = list(mechanism.actuated_coordinates)
-        columns = actuated if len(actuated) == 2 else [0, 1]
-    columns = [int(column) for column in columns]
-    if len(columns) != 2:
-        raise ValueError(f"a 2-dof locus grid has two coordinates, got {len(columns)}")
-    if ranges is None:
-        values = displacements_of(mechanism, start[None])[0]
-        from mechanisms.kinematics import kinematics_of
+    from .displacements import displacements_of
 
-        scales = kinematics_of(mechanism).ambient.tangent_scales
-        ranges = [((values[column] - np.pi, values[column] + np.pi) if scales[column] == 1.0 and
-                   _is_angle(mechanism, column) else (values[column] - 2 * scales[column],
-                                                      values[column] + 2 * scales[column])) for column in columns]
+    columns = default_columns(mechanism, dof) if columns is None else [int(column) for column in columns]
+    if len(columns) != dof:
+        axes = "two grid axes and a section" if dof == 3 else "two grid axes"
+        raise ValueError(f"a {dof}-dof locus grid has {dof} coordinates ({axes}), got {len(columns)}")
+    if len(set(columns)) != len(columns):
+        raise ValueError(f"a locus grid names a coordinate twice: {columns}")
     counts = [int(count) for count in counts]
-    if len(counts) != 2 or min(counts) < 2:
-        raise ValueError(f"a 2-dof locus grid needs two counts ≥ 2, got {counts}")
-    return columns, [tuple(map(float, pair)) for pair in ranges], counts
+    if dof == 3 and len(counts) == 2:
+        counts.append(SECTION_COUNT)
+    if len(counts) != dof or min(counts[:2]) < 2 or min(counts) < 1:
+        raise ValueError(f"a {dof}-dof locus grid needs {dof} counts (the grid's ≥ 2), got {counts}")
+    if ranges is None:
+        ranges = [None] * dof
+    ranges = list(ranges) + [None] * (dof - len(ranges))
+    values = displacements_of(mechanism, start[None])[0]
+    scales = kinematics_of(mechanism).ambient.tangent_scales
+    for axis, column in enumerate(columns):
+        if ranges[axis] is not None:
+            continue
+        if _is_angle(mechanism, column):
+            # a turn around the start; sections evenly around it without the turn's end (the start again)
+            last = np.pi - (2 * np.pi / counts[axis] if axis == 2 else 0.0)
+            ranges[axis] = (values[column] - np.pi, values[column] + last)
+        else:
+            ranges[axis] = (values[column] - 2 * scales[column], values[column] + 2 * scales[column])
+    ranges = [tuple(map(float, pair)) for pair in ranges]
+    if dof == 3 and counts[2] == 1 and ranges[2][0] != ranges[2][1]:
+        raise ValueError(f"one section has one value: its range must be a single value, got {ranges[2]}")
+    return columns, ranges, counts
 
 
 def _is_angle(mechanism, column):
@@ -547,18 +886,13 @@ def _is_angle(mechanism, column):
 
 
 def _assembled_grid(mechanism, start, columns, ranges, counts):
-    """The grid assembled by continuation from `start` (:func:`classify.cli.map_command.assemble_grid`)."""
-    from .cli._configurations import displacements_of, points_of
-    from .cli._grid import Grid
-    from .cli.map_command import assemble_grid, held_columns
+    """The grid assembled by continuation from `start` (:func:`classify.grid_continuation.assemble_grid`)."""
+    from .grid_continuation import Grid, assemble_grid, grid_targets, held_columns
 
     grid = Grid(tuple(mechanism.coordinate_names[column] for column in columns), tuple(columns),
                 tuple(low for low, _ in ranges), tuple(high for _, high in ranges), tuple(counts))
-    base = displacements_of(mechanism, start[None])[0]
-    requested = np.array(np.broadcast_to(base, (grid.size, base.size)))
-    requested[:, list(grid.columns)] = grid.values().reshape(grid.size, len(grid.columns))
-    targets = points_of(mechanism, requested)
-    points, reached = assemble_grid(mechanism, start, targets, grid.shape, held_columns(mechanism, grid))
+    targets = grid_targets(mechanism, grid, start)
+    points, reached = assemble_grid(mechanism, start, targets, grid.shape, held_columns(mechanism, grid, False))
     return points, np.asarray(reached, dtype=bool)
 
 
@@ -568,13 +902,16 @@ def default_columns(mechanism, dof):
     """The tangent coordinates a locus is traced over and shown in, when the user names none.
 
     2 dof: the two actuated coordinates, else the first two. 1 dof: the first
-    actuated coordinate (else the first) and the next one.
+    actuated coordinate (else the first) and the next one. 3 dof: the two
+    grid axes then the section coordinate: with three actuated coordinates
+    the last two and the first, else the second and third coordinates and
+    the first.
 
     Parameters
     ----------
     mechanism : Mechanism
     dof : int
-        1 or 2.
+        1, 2 or 3.
 
     Returns
     -------
@@ -583,6 +920,8 @@ def default_columns(mechanism, dof):
     actuated = list(mechanism.actuated_coordinates)
     if dof == 2:
         return actuated if len(actuated) == 2 else [0, 1]
+    if dof == 3:
+        return actuated[1:] + actuated[:1] if len(actuated) == 3 else [1, 2, 0]
     first = actuated[0] if actuated else 0
     return [first, (first + 1) % mechanism.ambient_dimension]
 
@@ -606,7 +945,7 @@ def locus_coordinates(mechanism, points, coordinates):
     """
     from mechanisms.kinematics import end_effector
 
-    from .cli._configurations import displacements_of
+    from .displacements import displacements_of
 
     points = np.atleast_2d(points)
     if isinstance(coordinates, str):

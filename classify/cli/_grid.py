@@ -8,12 +8,8 @@ naming the option's text and the field.
 
 from __future__ import annotations
 
-import math
-from dataclasses import dataclass
-
-import numpy as np
-
-
+# the dataclass lives in the core (:mod:`classify.grid_continuation`); its name stays importable from here
+from ..grid_continuation import Grid
 from ._common import InputError
 from ._names import coordinate_column, coordinate_number, shown
 
@@ -23,50 +19,8 @@ __all__ = ["GRID_POINT_LIMIT", "Grid", "parse_grid"]
 GRID_POINT_LIMIT = 1_000_000
 
 
-@dataclass(frozen=True)
-class Grid:
-    """A rectangular grid of coordinate values (``--grid NAME=a:b:n ...``).
-
-    Attributes
-    ----------
-    names : tuple of str
-        The coordinate names, one per grid axis.
-    columns : tuple of int
-        Their columns in a displacement matrix (indices into ``mechanism.coordinate_names``).
-    starts, stops : tuple of float
-    counts : tuple of int
-    """
-
-    names: tuple
-    columns: tuple
-    starts: tuple
-    stops: tuple
-    counts: tuple
-
-    @property
-    def shape(self):
-        return tuple(self.counts)
-
-    @property
-    def size(self):
-        return math.prod(self.counts)
-
-    def axes(self):
-        """The values along each axis, a list of arrays of shape=[n_i]."""
-        return [np.linspace(start, stop, count) for start, stop, count in zip(self.starts, self.stops, self.counts)]
-
-    def values(self):
-        """The coordinates of every grid point, shape=[*shape, d] (C order: the last axis varies fastest)."""
-        return np.stack(np.meshgrid(*self.axes(), indexing="ij"), axis=-1)
-
-    def to_dict(self):
-        """``{name: [a, b, n]}``."""
-        return {name: [start, stop, count]
-                for name, start, stop, count in zip(self.names, self.starts, self.stops, self.counts)}
-
-
-def parse_grid(texts, mechanism):
-    """The :class:`Grid` of ``--grid`` texts ``NAME=a:b:n``.
+def parse_grid(texts, mechanism, option="--grid"):
+    """The :class:`Grid` of ``--grid`` texts ``NAME=a:b:n`` (`option`: the option named in messages).
 
     Raises
     ------
@@ -79,7 +33,7 @@ def parse_grid(texts, mechanism):
     names, columns, starts, stops, counts = [], [], [], [], []
     size = 1
     for text in texts:
-        where = f"--grid {shown(text, 60)}"
+        where = f"{option} {shown(text, 60)}"
         name, equals, spec = text.rpartition("=")
         if not equals or not name.strip():
             raise InputError(f"{where}: expected NAME=a:b:n (a coordinate name, the first and last values and "
@@ -109,5 +63,5 @@ def parse_grid(texts, mechanism):
         stops.append(stop)
         counts.append(count)
     if not names:
-        raise InputError("--grid: expected at least one NAME=a:b:n")
+        raise InputError(f"{option}: expected at least one NAME=a:b:n")
     return Grid(tuple(names), tuple(columns), tuple(starts), tuple(stops), tuple(counts))

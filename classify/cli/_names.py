@@ -14,29 +14,11 @@ import math
 
 from mechanisms.joints import COORDINATE_LIMIT, joint_coordinate_names
 
+from ..displacements import coordinate_columns
 from ..text import printable
 from ._common import InputError
 
 __all__ = ["coordinate_columns", "coordinate_column", "coordinate_number", "shown", "known"]
-
-
-def coordinate_columns(mechanism):
-    """Joint name → the indices of its tangent coordinates (columns of a displacement matrix), in order.
-
-    Parameters
-    ----------
-    mechanism : Mechanism
-
-    Returns
-    -------
-    dict of str to tuple of int
-    """
-    columns, start = {}, 0
-    for joint in mechanism.joints:
-        count = len(joint_coordinate_names(joint))
-        columns[joint.name] = tuple(range(start, start + count))
-        start += count
-    return columns
 
 
 def _coordinate_index(mechanism):

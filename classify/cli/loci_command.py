@@ -1,30 +1,43 @@
 """``closedchain loci FILE|NAME [--param K=V] [--configuration C] [--coordinates J1,J5|end-effector]
-[--kinds actuator,end_effector,cspace] [--grid NAME=a:b:n NAME=a:b:n] [--out FIG.png|svg|pdf]
-[--format json|text]``: trace the singularity loci of a 1- or 2-dof mechanism (:mod:`classify.loci`).
+[--kinds actuator,end_effector,cspace] [--grid NAME=a:b:n NAME=a:b:n] [--section NAME=a:b:n]
+[--out FIG.png|svg|pdf] [--format json|text]``: trace the singularity loci of a 1-, 2- or 3-dof mechanism
+(:mod:`classify.loci`).
 
 2 dof: the grid (default the actuated coordinates, 24 points over a turn
 around the starting configuration, or ±2 characteristic lengths) is
 assembled by continuation from the starting configuration (``--configuration``,
 else the home), and the loci through its seeds are followed on M as
-curves. 1 dof: M's branches are followed from sampled points of M and the
+curves. 3 dof: the same in sections at fixed values of a third coordinate
+(``--section``, default the first actuated coordinate at 4 values around a
+turn, or over ±2 characteristic lengths; the grid's default axes are then
+the other two actuated coordinates), the grid of every section assembled by
+one continuation, so all sections are on the starting configuration's
+branch. 1 dof: M's branches are followed from sampled points of M and the
 loci are points on them. Every point reported is confirmed singular of its
 kind by the classification; C-space singularities (branch points) are
-points.
+points, also searched for from where σ_r, the r-th singular value of DΦ (r
+its rank at regular points), is locally smallest (1 and 2 dof,
+:func:`classify.loci.search_cspace`).
 
 ``--coordinates``: what the loci are shown in — joint coordinates (comma
 separated, as ``--at`` names them) or ``end-effector`` (its point). Default
-the grid's coordinates (2 dof), the actuated coordinate and the next one
-(1 dof).
+the grid's coordinates (2 dof), the grid's and the section's (3 dof), the
+actuated coordinate and the next one (1 dof).
 
 ``--format json``: ``{"mechanism", "source", "coordinates": [names],
 "pieces": [{"kind", "closed", "configurations": [{joint: displacement}],
 "coordinates": [[...]], "residuals": [...]}], "branches": [...same, 1 dof],
-"coverage": {...}}``. Each configuration is given as joint displacements
+"coverage": {...}}``; 3 dof: each piece also has its ``"section"`` (the
+section coordinate's value, a displacement from home), and the coverage
+``"section": {name: [a, b, n]}`` and ``"sections": [{"value", "reached",
+"seeds", "pieces"}]``. Each configuration is given as joint displacements
 from the mechanism's home exactly as ``--at`` takes them, so
 ``closedchain classify NAME --at '<one of them>'`` reproduces its verdict.
 ``--out``: the C-space map with the loci overlaid
-(:func:`classify.figures.loci.draw_cspace_map`); the text or JSON is printed
-as well.
+(:func:`classify.figures.loci.draw_cspace_map`; 3 dof: the sections stacked
+in 3-D, or, when ``--coordinates`` names two coordinates or a planar
+end-effector, one panel per section, :func:`classify.figures.loci.draw_sections`);
+the text or JSON is printed as well.
 """
 
 from __future__ import annotations
@@ -39,8 +52,8 @@ DEFAULT_COUNT = 24
 
 
 def add_parser(commands):
-    parser = commands.add_parser("loci", help="trace the singularity loci of a 1- or 2-dof mechanism, and its "
-                                              "C-space map")
+    parser = commands.add_parser("loci", help="trace the singularity loci of a 1-, 2- or 3-dof mechanism (3 dof: "
+                                              "in sections), and its C-space map")
     parser.add_argument("file", metavar="FILE|NAME", help="mechanism file (YAML or JSON) or catalogue name")
     entry_options(parser)
     parser.add_argument("--coordinates", default=None, metavar="J1,J5|end-effector",
@@ -48,8 +61,11 @@ def add_parser(commands):
     parser.add_argument("--kinds", default="actuator,end_effector,cspace", metavar="K,...",
                         help="which loci: actuator, end_effector, cspace (default all)")
     parser.add_argument("--grid", nargs="+", action="extend", default=None, metavar="NAME=a:b:n",
-                        help="2 dof: the two grid axes the seeds are searched on (default the actuated "
+                        help="2 and 3 dof: the two grid axes the seeds are searched on (default the actuated "
                              f"coordinates, {DEFAULT_COUNT} points over a turn)")
+    parser.add_argument("--section", default=None, metavar="NAME=a:b:n",
+                        help="3 dof: the coordinate held in each section and its values (default the first "
+                             "actuated coordinate at 4 values around a turn)")
     parser.add_argument("--out", default=None, metavar="FIG", help="write the C-space map with the loci (.png, "
                                                                    ".svg or .pdf)")
     parser.add_argument("--format", choices=("json", "text"), default="text", help="what is printed (default text)")
@@ -79,16 +95,43 @@ def _coordinates(text, mechanism, default):
     return columns
 
 
-def _grid(arguments, mechanism):
-    """(columns, ranges, counts) of --grid, or Nones."""
+def _grid(arguments, mechanism, dof):
+    """(columns, ranges, counts) of --grid and --section for :func:`classify.loci.trace_loci` (Nones where
+    defaulted)."""
+    from ..loci import SECTION_COUNT, default_columns
     from ._grid import parse_grid
 
-    if arguments.grid is None:
+    if arguments.grid is not None and dof == 1:
+        raise InputError("--grid: applies to 2- and 3-dof mechanisms (a 1-dof C-space is followed from sampled "
+                         "points)")
+    if arguments.section is not None and dof != 3:
+        raise InputError(f"--section: applies to 3-dof mechanisms (this one has {dof} dof)")
+    if arguments.grid is None and arguments.section is None:
         return None, None, (DEFAULT_COUNT, DEFAULT_COUNT)
-    grid = parse_grid(arguments.grid, mechanism)
-    if len(grid.names) != 2 or min(grid.counts) < 2:
-        raise InputError("--grid: expected two axes NAME=a:b:n with n ≥ 2 (a 2-dof locus grid)")
-    return list(grid.columns), list(zip(grid.starts, grid.stops)), list(grid.counts)
+    columns, ranges, counts = [], [], []
+    if arguments.grid is not None:
+        grid = parse_grid(arguments.grid, mechanism)
+        if len(grid.names) != 2 or min(grid.counts) < 2:
+            raise InputError(f"--grid: expected two axes NAME=a:b:n with n ≥ 2 (a {dof}-dof locus grid)")
+        columns, ranges, counts = list(grid.columns), list(zip(grid.starts, grid.stops)), list(grid.counts)
+    if dof == 2:
+        return columns, ranges, counts
+    section = None
+    if arguments.section is not None:
+        section = parse_grid([arguments.section], mechanism, "--section")
+        section = (section.columns[0], (section.starts[0], section.stops[0]), section.counts[0])
+        if section[0] in columns:
+            raise InputError("--section: its coordinate is a --grid axis too")
+    defaults = default_columns(mechanism, 3)
+    if not columns:  # the grid's default axes: the default ones without the section's coordinate
+        others = [column for column in defaults if section is None or column != section[0]]
+        columns = others[:2]
+        ranges, counts = [None, None], [DEFAULT_COUNT, DEFAULT_COUNT]
+    if section is None:
+        column = next(column for column in defaults[2:] + defaults[:2] + list(range(mechanism.ambient_dimension))
+                      if column not in columns)
+        section = (column, None, SECTION_COUNT)
+    return columns + [section[0]], ranges + [section[1]], counts + [section[2]]
 
 
 def _piece(mechanism, piece, coordinates):
@@ -96,9 +139,12 @@ def _piece(mechanism, piece, coordinates):
     from ._configurations import displacements_of, joint_displacements
 
     values, _ = locus_coordinates(mechanism, piece.points, coordinates)
-    return {"kind": piece.kind, "closed": piece.closed,
-            "configurations": joint_displacements(mechanism, displacements_of(mechanism, piece.points)),
-            "coordinates": values.tolist(), "residuals": piece.residuals.tolist()}
+    entry = {"kind": piece.kind, "closed": piece.closed,
+             "configurations": joint_displacements(mechanism, displacements_of(mechanism, piece.points)),
+             "coordinates": values.tolist(), "residuals": piece.residuals.tolist()}
+    if piece.section is not None:
+        entry["section"] = piece.section
+    return entry
 
 
 def _text(document):
@@ -108,7 +154,12 @@ def _text(document):
     if "grid" in coverage:
         grid = ", ".join(f"{printable(name)} from {low:.4g} to {high:.4g} in {count}"
                          for name, (low, high, count) in coverage["grid"].items())
-        lines.append(f"  grid: {grid}; {coverage['reached']} of {coverage['grid_points']} points reached")
+        sections = ""
+        if "section" in coverage:
+            (name, (low, high, count)), = coverage["section"].items()
+            sections = f" in {count} section(s) {printable(name)} from {low:.4g} to {high:.4g}"
+        lines.append(f"  grid: {grid}{sections}; {coverage['reached']} of {coverage['grid_points']} points "
+                     f"reached")
     if "branches" in coverage:
         closed = sum(coverage["branches_closed"])
         lines.append(f"  branches of M: {coverage['branches']} ({closed} closed), from {coverage['samples']} "
@@ -119,6 +170,15 @@ def _text(document):
         points = sum(len(piece["configurations"]) for piece in pieces)
         lines.append(f"  {kind.replace('_', '-')}: {count} piece(s), {closed} closed, {points} point(s)"
                      + (f"; not traced: {coverage['not_traced'][kind]}" if kind in coverage["not_traced"] else ""))
+    if "cspace_search" in coverage:
+        search = coverage["cspace_search"]
+        lines.append(f"  C-space singularities searched for from {search['seeds']} point(s) where σ_r(DΦ) is "
+                     f"locally smallest: {search['found']} found, {search['confirmed']} confirmed")
+    if "actuator_search" in coverage:
+        search = coverage["actuator_search"]
+        lines.append(f"  actuator singularities (redundant actuation) searched for from {search['seeds']} point(s) "
+                     f"where σ_k([DΦ; Dπ]) is locally smallest: {search['found']} found, {search['confirmed']} "
+                     f"confirmed")
     dropped = {kind: count for kind, count in coverage["unconfirmed"].items() if count}
     if dropped:
         lines.append("  dropped (not confirmed by the classification): "
@@ -146,11 +206,10 @@ def run(arguments, out):
     model = model_of(mechanism, arguments.length_scale)
     survey = survey_of(model)
     dof = mechanism.ambient_dimension - survey.constraint_rank
-    if dof not in (1, 2):
-        raise InputError(f"loci: traced for 1- and 2-dof mechanisms; {printable(mechanism.name)} has {dof} dof")
-    columns, ranges, counts = _grid(arguments, mechanism)
-    if dof == 1 and arguments.grid is not None:
-        raise InputError("--grid: applies to 2-dof mechanisms (a 1-dof C-space is followed from sampled points)")
+    if dof not in (1, 2, 3):
+        raise InputError(f"loci: traced for 1-, 2- and 3-dof mechanisms; {printable(mechanism.name)} has {dof} "
+                         f"dof")
+    columns, ranges, counts = _grid(arguments, mechanism, dof)
     coordinates = _coordinates(arguments.coordinates, mechanism,
                                columns if columns is not None else default_columns(mechanism, dof))
     loci = trace_loci(mechanism, start, columns=columns, ranges=ranges, counts=counts, kinds=kinds,
@@ -163,10 +222,13 @@ def run(arguments, out):
                 "branches": [_piece(mechanism, branch, coordinates) for branch in loci.branches],
                 "coverage": loci.coverage}
     if arguments.out is not None:
-        from ..figures.loci import draw_cspace_map
+        from ..figures.loci import draw_cspace_map, draw_sections
 
-        write_figure(draw_cspace_map(mechanism, loci, coordinates, title=f"{mechanism.name}: singularity loci"),
-                     arguments.out)
+        title = f"{mechanism.name}: singularity loci"
+        flat = len(names) <= 2  # a 3-dof mechanism's sections as panels, else stacked in 3-D
+        figure = (draw_sections(mechanism, loci, coordinates, title=title) if dof == 3 and flat
+                  else draw_cspace_map(mechanism, loci, coordinates, title=title))
+        write_figure(figure, arguments.out)
     if arguments.format == "json":
         out.write(outputs.json_text(document) + "\n")
     else:

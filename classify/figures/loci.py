@@ -13,6 +13,13 @@
   Chablat, Wenger & Angeles 1998 (Figs. 2–5), with the loci as their
   boundaries.
 
+* :func:`draw_sections`: a 3-dof mechanism's loci as a grid of panels, one
+  per section (titled with the section coordinate's value), each the C-space
+  map of that section in two coordinates.
+
+A 3-dof mechanism's loci drawn by :func:`draw_cspace_map` in three joint
+coordinates are the sections stacked in 3-D axes.
+
 Angles are wrapped to [−π, π); a line is broken where it wraps.
 """
 
@@ -22,7 +29,7 @@ import numpy as np
 
 from .drawing import KIND_COLOURS
 
-__all__ = ["draw_loci", "draw_cspace_map", "BRANCH_COLOURS"]
+__all__ = ["draw_loci", "draw_cspace_map", "draw_sections", "BRANCH_COLOURS"]
 
 #: colours of the branches of a 1-dof C-space map
 BRANCH_COLOURS = ("tab:green", "tab:orange", "tab:cyan", "tab:olive", "tab:pink", "tab:brown")
@@ -53,6 +60,57 @@ def _line(axes, values, **style):
     if values.shape[1] == 1:
         return axes.plot(values[:, 0], np.zeros(len(values)), **style)[0]
     return axes.plot(values[:, 0], values[:, 1], **style)[0]
+
+
+def draw_sections(mechanism, loci, coordinates, title=None, columns=3):
+    """Draw a 3-dof mechanism's loci section by section, one panel each (see the module notes).
+
+    Parameters
+    ----------
+    mechanism : Mechanism
+    loci : Loci
+        Traced in sections (``loci.coverage["sections"]``).
+    coordinates : sequence of int or "end-effector"
+        What each panel shows (two joint coordinates, or a planar end-effector point).
+    title : str, optional
+    columns : int
+        Panels per row.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    from dataclasses import replace
+
+    from matplotlib.figure import Figure
+
+    from ..displacements import displacements_of
+    from ..text import printable
+
+    if "sections" not in loci.coverage:
+        raise ValueError("draw_sections: the loci were not traced in sections (a 3-dof mechanism)")
+    (name, _), = loci.coverage["section"].items()
+    column = mechanism.coordinate_names.index(name)
+    values = [entry["value"] for entry in loci.coverage["sections"]]
+    rows = -(-len(values) // columns)
+    across = min(columns, len(values))
+    figure = Figure(figsize=(4.2 * across, 4.0 * rows))
+    offsets = (displacements_of(mechanism, loci.samples)[:, column][:, None] - np.array(values)[None]
+               if len(loci.samples) else np.zeros((0, len(values))))
+    offsets = (offsets + np.pi) % (2 * np.pi) - np.pi
+    for index, value in enumerate(values):
+        axes = figure.add_subplot(rows, across, index + 1)
+        axes.set_gid(f"section:{index}")
+        chosen = np.abs(offsets[:, index]) < 1e-9
+        part = replace(loci, pieces=tuple(piece for piece in loci.pieces if piece.section == value), branches=(),
+                       samples=loci.samples[chosen], sample_signs=loci.sample_signs[chosen])
+        draw_cspace_map(mechanism, part, coordinates, axes=axes, title=f"{printable(name)} = {value:.4g}")
+        if axes.get_legend() is not None and index:
+            axes.get_legend().remove()
+    if title is not None:
+        figure.suptitle(title)
+        figure.subplots_adjust(top=0.84 if rows == 1 else 0.9, hspace=0.35)
+    return figure
 
 
 def draw_loci(mechanism, loci, coordinates, axes=None, title=None):

@@ -55,8 +55,14 @@ def test_slider_crank_text_and_branches():
 
 
 def test_loci_refuses_bad_input(tmp_path):
-    status, _, err = run(["loci", "planar-3rrr"])
-    assert status == 2 and "1- and 2-dof" in err
+    status, _, err = run(["loci", "gough-stewart"])
+    assert status == 2 and "1-, 2- and 3-dof" in err
+    status, _, err = run(["loci", "five-bar", "--section", "A=0:1:3"])
+    assert status == 2 and "--section" in err and "3-dof" in err
+    status, _, err = run(["loci", "hybrid", "--grid", "A=0:1:5", "B=0:1:5", "--section", "A=0:1:3"])
+    assert status == 2 and "--section" in err
+    status, _, err = run(["loci", "hybrid", "--section", "base=0:1:1"])
+    assert status == 2 and "--section 'base=0:1:1': n = 1" in err
     status, _, err = run(["loci", "five-bar", "--coordinates", "Q"])
     assert status == 2 and "--coordinates" in err
     status, _, err = run(["loci", "five-bar", "--grid", "A=0:1:5"])
@@ -65,3 +71,44 @@ def test_loci_refuses_bad_input(tmp_path):
     assert status == 2 and "--kinds" in err
     status, _, err = run(["loci", "five-bar", "--out", str(tmp_path / "x.csv")])
     assert status == 2 and "--out" in err
+
+
+@pytest.fixture(scope="module")
+def hybrid_loci(tmp_path_factory):
+    path = tmp_path_factory.mktemp("loci") / "sections.svg"
+    status, out, err = run(["loci", "hybrid", "--grid", "A=-3.1:3.1:8", "B=-3.1:3.1:8", "--section", "base=0.5:0.5:1",
+                            "--kinds", "actuator,end_effector", "--format", "json", "--out", str(path)])
+    assert status == 0, err
+    return json.loads(out), path
+
+
+def test_three_dof_json_has_sections(hybrid_loci):
+    document, path = hybrid_loci
+    assert path.stat().st_size > 1000
+    assert document["coordinates"] == ["A", "B", "base"]
+    assert document["coverage"]["section"] == {"base": [0.5, 0.5, 1]}
+    assert [entry["value"] for entry in document["coverage"]["sections"]] == [0.5]
+    assert {piece["kind"] for piece in document["pieces"]} == {"actuator", "end_effector"}
+    for piece in document["pieces"]:
+        assert piece["section"] == 0.5
+        assert all(abs(configuration["base"] - 0.5) < 1e-9 for configuration in piece["configurations"])
+        assert all(abs(values[2] - 0.5) < 1e-9 for values in piece["coordinates"])
+
+
+def test_three_dof_configurations_are_singular_through_classify(hybrid_loci):
+    """Chablat, Wenger & Angeles 1998: the hybrid's loci (eqs. 24, 30) given back as --at are singular."""
+    document, _ = hybrid_loci
+    for kind in ("actuator", "end_effector"):
+        piece = next(piece for piece in document["pieces"] if piece["kind"] == kind)
+        status, out, err = run(["classify", "hybrid", "--at", json.dumps(piece["configurations"][0]),
+                                "--format", "json"])
+        assert status == 0, err
+        verdict = json.loads(out)
+        assert verdict["singular"] and kind in verdict["kinds"]
+
+
+def test_three_dof_text_names_the_sections():
+    status, out, err = run(["loci", "hybrid", "--grid", "A=-3.1:3.1:5", "B=-3.1:3.1:5", "--section", "base=0:1:2",
+                            "--kinds", "actuator"])
+    assert status == 0, err
+    assert "(3 dof)" in out and "in 2 section(s) base from 0 to 1" in out and "actuator:" in out

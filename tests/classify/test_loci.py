@@ -146,7 +146,7 @@ def test_slider_crank_dead_centres_are_end_effector_points(slider_crank):
     assert "actuator" in loci.coverage["pieces"]
 
 
-def test_three_dof_is_refused():
-    mechanism = catalogue_mechanism("planar-3rrr")
-    with pytest.raises(ValueError, match="1- and 2-dof"):
+def test_more_than_three_dof_is_refused():
+    mechanism = catalogue_mechanism("gough-stewart")
+    with pytest.raises(ValueError, match="1-, 2- and 3-dof"):
         trace_loci(mechanism, configuration(mechanism, {}).point)

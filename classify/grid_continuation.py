@@ -1,0 +1,380 @@
+"""Continuation over a grid of joint coordinates: every grid point assembled on the starting configuration's branch.
+
+A :class:`Grid` is a rectangular grid over some tangent coordinates (joint
+displacements from the home, :mod:`classify.displacements`); the other
+coordinates keep the starting configuration's values. The grid
+coordinates are held at exactly the grid values, and so are the actuated
+coordinates off the grid when the grid is over actuated coordinates only
+(:func:`held_columns`); an S joint with a grid coordinate is held whole.
+The other coordinates close the loops (where the held ones leave them free
+to move, the corrections of least length pick the configuration nearest the
+previous one), by continuation over the grid (:func:`assemble_grid`): the
+grid point nearest the starting configuration is reached from it, and every
+other point from an already reached neighbouring grid point (one step along
+one axis), so the grid follows the starting configuration's assembly branch
+(working mode).
+
+One continuation step, from a configuration q on M to the held values h'
+(the predictor–corrector :func:`mechanisms.assemble` uses from the home):
+the held coordinates move from their values at q to h' in sub-steps of at
+most 0.2 (dimensionless), each predicted to first order,
+``q ⊕ −s·(DΦ_q s)⁺ DΦ_h Δh``, and corrected by Gauss–Newton in the free
+coordinates to ‖Φ‖ ≤ 1e-10 with no half-turn loop; a sub-step whose
+corrector does not converge, or moves the free coordinates more than 0.25
+(dimensionless: a jump to another branch), is halved, and the step fails
+below 1/64 of the way (or 1e-5). A grid point none of whose reached
+neighbours leads to it is *unreachable* (outside the inputs' reach on this
+branch, or beyond a fold). A part of the grid with no reached neighbour at
+all is started like the first point: from the starting configuration,
+nearest point first. The held values of a reached point are the grid values
+bit for bit. All the grid points of one continuation front are computed at
+once (array work): a grid of n₁ × … × n_d points takes about n₁ + … + n_d
+fronts.
+
+Used by ``closedchain map`` (:mod:`classify.cli.map_command`) and the loci
+(:mod:`classify.loci`).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+__all__ = ["Grid", "grid_targets", "held_columns", "held_entries", "assemble_grid", "grid_neighbours"]
+
+#: ‖Φ‖ of an assembled grid point (the default of :func:`mechanisms.assemble`)
+_TOLERANCE = 1e-10
+#: largest dimensionless corrector move a continuation sub-step accepts (as :mod:`mechanisms.assembly`)
+_JUMP = 0.25
+#: largest dimensionless move of the held coordinates in one sub-step
+_SUBSTEP = 0.2
+#: continuation gives up when a sub-step falls below this fraction of the way to the target, or below 1e-5
+#: (dimensionless): a grid map needs the points on the branch, not where exactly it ends between two of them
+_SMALLEST_FRACTION = 1 / 64
+_SMALLEST_STEP = 1e-5
+#: Gauss–Newton iterations of one corrector
+_CORRECTOR_ITERATIONS = 8
+#: sub-steps one continuation may take
+_STEP_LIMIT = 2000
+#: grid points tried at once when a part of the grid is started from the configuration: first, and at most
+_SEED_CHUNK = 16
+_SEED_CHUNK_LIMIT = 4096
+
+
+@dataclass(frozen=True)
+class Grid:
+    """A rectangular grid of coordinate values (``closedchain map --grid NAME=a:b:n ...``).
+
+    Attributes
+    ----------
+    names : tuple of str
+        The coordinate names, one per grid axis.
+    columns : tuple of int
+        Their columns in a displacement matrix (indices into ``mechanism.coordinate_names``).
+    starts, stops : tuple of float
+    counts : tuple of int
+    """
+
+    names: tuple
+    columns: tuple
+    starts: tuple
+    stops: tuple
+    counts: tuple
+
+    @property
+    def shape(self):
+        return tuple(self.counts)
+
+    @property
+    def size(self):
+        return math.prod(self.counts)
+
+    def axes(self):
+        """The values along each axis, a list of arrays of shape=[n_i]."""
+        return [np.linspace(start, stop, count) for start, stop, count in zip(self.starts, self.stops, self.counts)]
+
+    def values(self):
+        """The coordinates of every grid point, shape ``[*shape, d]`` (C order: the last axis varies fastest)."""
+        return np.stack(np.meshgrid(*self.axes(), indexing="ij"), axis=-1)
+
+    def to_dict(self):
+        """``{name: [a, b, n]}``."""
+        return {name: [start, stop, count]
+                for name, start, stop, count in zip(self.names, self.starts, self.stops, self.counts)}
+
+
+def grid_targets(mechanism, grid, start):
+    """The grid's points: the starting configuration's displacements with the grid coordinates set.
+
+    Parameters
+    ----------
+    mechanism : Mechanism
+    grid : Grid
+    start : ndarray, shape=[point_size]
+        A configuration (its displacements give the coordinates off the grid).
+
+    Returns
+    -------
+    targets : ndarray, shape=[n, point_size]
+        In C order (:meth:`Grid.values`).
+    """
+    from .displacements import displacements_of, points_of
+
+    base = displacements_of(mechanism, np.asarray(start, dtype=float)[None])[0]
+    requested = np.array(np.broadcast_to(base, (grid.size, base.size)))
+    requested[:, list(grid.columns)] = grid.values().reshape(grid.size, len(grid.columns))
+    return points_of(mechanism, requested)
+
+
+# ------------------------------------------------------------------------------------------------ held coordinates
+
+def held_columns(mechanism, grid, actuated=True):
+    """The tangent coordinates held at each grid point (sorted column indices).
+
+    The grid's coordinates (an S joint's three when one of them is on the
+    grid), and, with `actuated`, the actuated coordinates off the grid when
+    every grid coordinate is actuated (``closedchain map``: the inputs not
+    named stay where they are; the loci hold the grid's coordinates only, so
+    that a redundantly actuated mechanism's grid is not over-constrained).
+    """
+    from .displacements import coordinate_columns
+
+    held = set(grid.columns)
+    for name, columns in coordinate_columns(mechanism).items():
+        if mechanism.joint(name).type == "S" and held & set(columns):
+            held |= set(columns)
+    inputs = set(mechanism.actuated_coordinates)
+    if actuated and set(grid.columns) <= inputs:
+        held |= inputs
+    return tuple(sorted(held))
+
+
+def held_entries(ambient, held):
+    """The point entries of the factors whose tangent coordinates are held, shape=[h]."""
+    held = set(held)
+    entries = []
+    for point_part, tangent_part in zip(ambient.point_slices, ambient.tangent_slices):
+        if held & set(range(ambient.dim)[tangent_part]):
+            entries += list(range(ambient.point_size)[point_part])
+    return np.array(entries, dtype=int)
+
+
+# ------------------------------------------------------------------------------------------------ continuation
+
+def _correct(mechanism, points, free, iterations=_CORRECTOR_ITERATIONS):
+    """Gauss–Newton corrector in the free coordinates from a stack of configurations (held ones fixed bit for bit).
+
+    ``q ← q ⊕ −s·(DΦ_q(q)·s)⁺ Φ(q)``, the step of least dimensionless length,
+    until ‖Φ‖ ≤ 1e-3 × the assembly tolerance, `iterations` steps, or a step
+    that does not decrease ‖Φ‖ (then the iteration stops there): the
+    corrector of a continuation step, whose predictor is close, so neither
+    damped nor line-searched (a step that does not converge is halved by the
+    caller instead).
+
+    Parameters
+    ----------
+    mechanism : Mechanism
+    points : ndarray, shape=[m, point_size]
+    free : ndarray of int, shape=[f]
+        The free tangent coordinates.
+
+    Returns
+    -------
+    points : ndarray, shape=[m, point_size]
+    residuals : ndarray, shape=[m]
+        ‖Φ‖ at each (NaN where the iteration diverged).
+    """
+    from mechanisms.kinematics import constraint, constraint_jacobian, kinematics_of
+
+    ambient = kinematics_of(mechanism).ambient
+    scales = ambient.tangent_scales[free]
+    points = np.array(points, dtype=float)
+    values = constraint(mechanism, points)
+    norms = np.linalg.norm(values, axis=-1)
+    if not len(free):
+        return points, norms
+    active = np.isfinite(norms)
+    for _ in range(iterations):
+        rows = np.flatnonzero(active & (norms > 1e-3 * _TOLERANCE))
+        if not rows.size:
+            break
+        jacobian = constraint_jacobian(mechanism, points[rows])[..., free] * scales
+        tangent = np.zeros((rows.size, ambient.dim))
+        tangent[:, free] = -scales * np.einsum("arc,ac->ar", np.linalg.pinv(jacobian, rcond=1e-12), values[rows])
+        points[rows] = ambient.retract(points[rows], tangent)
+        values[rows] = constraint(mechanism, points[rows])
+        previous, norms[rows] = norms[rows], np.linalg.norm(values[rows], axis=-1)
+        active[rows] = norms[rows] < previous  # not converging (above the tolerance): the caller halves the step
+    return points, norms
+
+
+def _continue(mechanism, sources, targets, held, entries):
+    """Continuation from configurations on M to the held values of target points, all at once.
+
+    Parameters
+    ----------
+    mechanism : Mechanism
+    sources : ndarray, shape=[m, point_size]
+        Configurations on M.
+    targets : ndarray, shape=[m, point_size]
+        Points whose held entries are the values to reach.
+    held : ndarray of int
+        The held tangent coordinates.
+    entries : ndarray of int
+        The point entries of the held factors (:func:`held_entries`).
+
+    Returns
+    -------
+    reached : ndarray, shape=[m, point_size]
+        The configurations (held entries those of `targets`; NaN rows where not reached).
+    ok : ndarray of bool, shape=[m]
+    """
+    from mechanisms.kinematics import closes, constraint_jacobian, kinematics_of
+
+    ambient = kinematics_of(mechanism).ambient
+    scales = ambient.tangent_scales
+    free = np.setdiff1d(np.arange(ambient.dim), held)
+    count = len(sources)
+    delta = np.zeros((count, ambient.dim))
+    delta[:, held] = ambient.inverse_retract(sources, targets)[:, held]
+    size = np.linalg.norm(delta / scales, axis=-1)
+    largest = np.minimum(1.0, _SUBSTEP / np.maximum(size, 1e-300))
+    step, done = largest.copy(), np.zeros(count)
+    current = np.array(sources, dtype=float)
+    status = np.zeros(count, dtype=np.int8)  # 0 walking, 1 reached, -1 failed
+    for _ in range(_STEP_LIMIT):
+        rows = np.flatnonzero(status == 0)
+        if not rows.size:
+            break
+        goal = np.minimum(1.0, done[rows] + step[rows])
+        base = ambient.retract(sources[rows], goal[:, None] * delta[rows])
+        final = goal == 1.0
+        base[final] = targets[rows[final]]  # the grid values bit for bit
+        start = current[rows].copy()
+        start[:, entries] = base[:, entries]
+        tangent = np.zeros((rows.size, ambient.dim))
+        if free.size:
+            jacobian = constraint_jacobian(mechanism, current[rows])
+            motion = np.einsum("mch,mh->mc", jacobian[..., held], (goal - done[rows])[:, None] * delta[rows][:, held])
+            inverse = np.linalg.pinv(jacobian[..., free] * scales[free], rcond=1e-12)
+            tangent[:, free] = -scales[free] * np.einsum("mfc,mc->mf", inverse, motion)
+        predicted = ambient.retract(start, tangent)
+        corrected, residuals = _correct(mechanism, predicted, free)
+        move = np.linalg.norm(ambient.inverse_retract(predicted, corrected)[:, free] / scales[free], axis=-1)
+        good = ((residuals <= _TOLERANCE) & np.asarray(closes(mechanism, corrected, _TOLERANCE), dtype=bool)
+                & (move <= _JUMP))
+        accepted, refused = rows[good], rows[~good]
+        current[accepted], done[accepted] = corrected[good], goal[good]
+        step[accepted] = np.minimum(2.0 * step[accepted], largest[accepted])
+        status[accepted[goal[good] == 1.0]] = 1
+        step[refused] /= 2.0
+        status[refused[(step[refused] < _SMALLEST_FRACTION) | (step[refused] * size[refused] < _SMALLEST_STEP)]] = -1
+    ok = status == 1
+    current[~ok] = np.nan
+    return current, ok
+
+
+def grid_neighbours(shape):
+    """The neighbours of every grid point, shape=[n, 2d]: column 2a the point one step back along axis a,
+    2a + 1 one step forward (flat C-order indices, -1 off the grid)."""
+    flat = np.arange(int(np.prod(shape, dtype=np.int64))).reshape(shape)
+    result = np.full((flat.size, 2 * len(shape)), -1, dtype=np.int64)
+    for axis in range(len(shape)):
+        for column, (target, origin) in enumerate(((slice(1, None), slice(None, -1)),
+                                                   (slice(None, -1), slice(1, None)))):
+            neighbour = np.full(shape, -1, dtype=np.int64)
+            into, out_of = [slice(None)] * len(shape), [slice(None)] * len(shape)
+            into[axis], out_of[axis] = target, origin
+            neighbour[tuple(into)] = flat[tuple(out_of)]
+            result[:, 2 * axis + column] = neighbour.reshape(-1)
+    return result
+
+
+def assemble_grid(mechanism, start, targets, shape, held, bar=None):
+    """Every grid point assembled by continuation over the grid from a configuration (see the module notes).
+
+    Parameters
+    ----------
+    mechanism : Mechanism
+    start : ndarray, shape=[point_size]
+        The starting configuration, on M.
+    targets : ndarray, shape=[n, point_size]
+        The grid points in C order: the held entries are the values to hold.
+    shape : tuple of int
+        The grid's shape (n = its product).
+    held : sequence of int
+        The held tangent coordinates (:func:`held_columns`).
+    bar : progress bar, optional
+        Updated by the number of points reached.
+
+    Returns
+    -------
+    points : ndarray, shape=[n, point_size]
+        NaN rows where unreachable.
+    reached : ndarray of bool, shape=[n]
+    """
+    from mechanisms.kinematics import kinematics_of
+
+    ambient = kinematics_of(mechanism).ambient
+    held = np.asarray(held, dtype=int)
+    entries = held_entries(ambient, held)
+    targets = np.asarray(targets, dtype=float)
+    count = len(targets)
+    neighbours = grid_neighbours(shape)
+    points = np.full(targets.shape, np.nan)
+    reached = np.zeros(count, dtype=bool)
+    tried = np.zeros(neighbours.shape, dtype=bool)
+    started = np.zeros(count, dtype=bool)
+    distance = np.linalg.norm(ambient.inverse_retract(start, targets)[:, held] / ambient.tangent_scales[held],
+                              axis=-1)
+    candidates = np.zeros(0, dtype=np.int64)
+    while True:
+        if candidates.size:  # a continuation front: each from one reached neighbour not tried yet
+            around = neighbours[candidates]
+            usable = (around >= 0) & reached[np.maximum(around, 0)] & ~tried[candidates]
+            keep = usable.any(axis=1)
+            candidates, around, usable = candidates[keep], around[keep], usable[keep]
+        if candidates.size:
+            direction = np.argmax(usable, axis=1)
+            origins = around[np.arange(candidates.size), direction]
+            tried[candidates, direction] = True
+            found, ok = _continue(mechanism, points[origins], targets[candidates], held, entries)
+            won = candidates[ok]
+            points[won], reached[won] = found[ok], True
+            if bar is not None:
+                bar.update(int(won.size))
+            following = neighbours[won].reshape(-1)
+            following = following[following >= 0]
+            candidates = np.unique(np.concatenate([candidates[~ok], following[~reached[following]]]))
+            continue
+        seed = _seed(mechanism, start, targets, held, entries, distance,
+                     np.flatnonzero(~reached & ~started & ~tried.any(axis=1)), started)
+        if seed is None:
+            break
+        index, point = seed
+        points[index], reached[index] = point, True
+        if bar is not None:
+            bar.update(1)
+        candidates = neighbours[index][neighbours[index] >= 0]
+        candidates = candidates[~reached[candidates]]
+    return points, reached
+
+
+def _seed(mechanism, start, targets, held, entries, distance, fresh, started):
+    """The grid point nearest the starting configuration (among `fresh`) that continuation from it reaches;
+    (index, configuration) or None. The points are tried nearest first, in chunks that double in size (the first
+    is usually the one), and marked in `started`."""
+    order = fresh[np.argsort(distance[fresh], kind="stable")]
+    begin, size = 0, _SEED_CHUNK
+    while begin < order.size:
+        chunk = order[begin:begin + size]
+        started[chunk] = True
+        found, ok = _continue(mechanism, np.broadcast_to(start, targets[chunk].shape), targets[chunk], held,
+                              entries)
+        if ok.any():
+            first = int(np.argmax(ok))
+            return int(chunk[first]), found[first]
+        begin, size = begin + size, min(2 * size, _SEED_CHUNK_LIMIT)
+    return None
