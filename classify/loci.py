@@ -935,15 +935,15 @@ def locus_coordinates(mechanism, points, coordinates):
     points : ndarray, shape=[n, point_size]
     coordinates : sequence of int or "end-effector"
         Tangent coordinate columns (joint displacements from home, angles
-        wrapped to [−π, π)), or the end-effector point (position and pose
-        outputs: its position).
+        wrapped to [−π, π)), or the end-effector point (position, pose and
+        tool outputs: its position).
 
     Returns
     -------
     values : ndarray, shape=[n, d]
     names : tuple of str
     """
-    from mechanisms.kinematics import end_effector
+    from mechanisms.kinematics import end_effector, kinematics_of
 
     from .displacements import displacements_of
 
@@ -952,6 +952,8 @@ def locus_coordinates(mechanism, points, coordinates):
         value = end_effector(mechanism, points)
         if value.ndim == 3:  # a frame: its origin
             value = value[..., :-1, -1]
+        elif kinematics_of(mechanism).output == "tool":  # (point, axis): the point
+            value = value[..., :3]
         names = ("x", "y", "z")[: value.shape[-1]]
         return np.asarray(value, dtype=float), names
     columns = list(coordinates)
