@@ -29,6 +29,7 @@ from .conditioning_matrices import three_prr_matrices
 __all__ = [
     "CharacteristicLength", "three_prr_length", "three_prr_leg_angles", "isotropy_length", "isotropy_residuals",
     "three_prr_kappa", "optimal_characteristic_length", "isotropic_postures", "best_length_at",
+    "mechanism_optimal_length",
 ]
 
 #: κ − 1 below which a minimum counts as isotropic (the optimiser reaches ~1e-10 on the 3-PRR)
@@ -177,7 +178,7 @@ def optimal_characteristic_length(kappa, start_length, start_posture, length_bou
                                             "and the posture)")
 
 
-def isotropic_postures(kappa, starts, tolerance=ISOTROPY_TOLERANCE, separation=1e-4):
+def isotropic_postures(kappa, starts, tolerance=ISOTROPY_TOLERANCE, separation=1e-4, max_evaluations=8000):
     """Postures where κ = 1, by minimising κ over the posture from each start (Nelder–Mead).
 
     Parameters
@@ -189,6 +190,8 @@ def isotropic_postures(kappa, starts, tolerance=ISOTROPY_TOLERANCE, separation=1
         κ − 1 ≤ tolerance counts as isotropic (the margin is returned with each posture).
     separation : float
         Postures closer than this (relative to their size + 1) are the same.
+    max_evaluations : int
+        Of κ, per start.
 
     Returns
     -------
@@ -203,7 +206,8 @@ def isotropic_postures(kappa, starts, tolerance=ISOTROPY_TOLERANCE, separation=1
             value = float(kappa(posture))
             return value if np.isfinite(value) else 1e12
         result = minimize(objective, start, method="Nelder-Mead",
-                          options={"xatol": 1e-10, "fatol": 1e-13, "maxiter": 4000, "maxfev": 8000})
+                          options={"xatol": 1e-10, "fatol": 1e-13, "maxiter": max_evaluations,
+                                   "maxfev": max_evaluations})
         margin = float(result.fun) - 1.0
         if margin > tolerance:
             continue
@@ -237,3 +241,138 @@ def best_length_at(jacobian_of_length, length_bounds):
     result = minimize_scalar(objective, bounds=(low, high), method="bounded", options={"xatol": 1e-10})
     return CharacteristicLength(float(np.exp(result.x)), "optimised", None, float(result.fun),
                                 "κ(J̄) minimised over L at the configuration")
+
+
+# ------------------------------------------------------------------------------------------------ any mechanism
+
+def _posture_chart(mechanism, point, length):
+    """``v -> (q, J̄₁)``: the configuration ``project(point ⊕ T v)`` (T a tangent basis at `point`, v of the
+    dimension of M) and its J̄ at L = 1; (None, None) where the projection fails."""
+    from manifold import ProjectionError, project, tangent_basis
+
+    from .conditioning import mechanism_jacobians
+    from .model import model_of
+
+    manifold = model_of(mechanism, length_scale=length).manifold
+    basis = tangent_basis(manifold, point)[0]
+
+    def chart(posture):
+        try:
+            configuration = project(manifold, manifold.ambient.retract(point, basis @ np.asarray(posture)))
+        except ProjectionError:   # this posture is not on M nearby
+            return None, None
+        configuration = np.asarray(configuration, dtype=float)
+        jacobian = mechanism_jacobians(mechanism, configuration[None], 1.0)[0][0]
+        return configuration, jacobian
+    return chart, basis.shape[1]
+
+
+def mechanism_optimal_length(mechanism, point, rng=None, restarts=3, spread=0.5, max_evaluations=400,
+                             length_bounds=None, tolerance=ISOTROPY_TOLERANCE):
+    """L minimising κ(J̄) over L and the posture, for any mechanism with a pose output, and its isotropic postures.
+
+    J̄(L) = D(L) J̄(1), D = diag(L on the rotation rows, 1 on the others) (the end-effector metric
+    H = D², :func:`classify.metrics.end_effector_metric`), so for each posture the best L is a 1-D bounded
+    minimisation (``minimize_scalar`` on log L); the posture is minimised over by Nelder–Mead in a chart of M
+    at `point` (``project(point ⊕ T v)``, T a tangent basis, v ∈ ℝ^m, m = dim M) from `point` and `restarts`
+    random starts (v ~ `spread`·N(0, 1)). Postures with κ − 1 ≤ `tolerance` at the optimal L are isotropic
+    (Chablat, Caro, Wenger & Angeles 2002 §3.3: K̄K̄ᵀ = τ²1).
+
+    Parameters
+    ----------
+    mechanism : Mechanism
+        n actuators = n outputs = dim M, a pose or orientation output.
+    point : array_like, shape=[point_size]
+        On M; the chart's centre.
+    rng : numpy.random.Generator, optional
+        Default seeded 0.
+    restarts : int
+    spread : float
+    max_evaluations : int
+        Of the posture objective, per start.
+    length_bounds : tuple of float, optional
+        Default the mechanism's characteristic length × (1e-3, 1e3).
+    tolerance : float
+
+    Returns
+    -------
+    found : CharacteristicLength
+        ``method="optimised"``, ``posture`` = the optimal configuration's joint displacements from home (one
+        per coordinate, ``mechanism.coordinate_names``), ``kappa`` = κ(J̄) there.
+    isotropic : list of (dict, float)
+        (joint displacements, κ − 1) of the minima from the starts with κ − 1 ≤ `tolerance` at the optimal L,
+        distinct.
+    """
+    from mechanisms import to_displacements
+    from scipy.optimize import minimize, minimize_scalar
+
+    from .metrics import end_effector_metric
+
+    rng = np.random.default_rng(0) if rng is None else rng
+    point = np.asarray(point, dtype=float)
+    base = float(mechanism.characteristic_length)
+    low, high = (base * 1e-3, base * 1e3) if length_bounds is None else length_bounds
+    rotation_rows = np.diag(end_effector_metric(mechanism, 2.0)) != 1.0
+    if not np.any(rotation_rows):
+        raise ValueError(f"{mechanism.name}: no orientation output: no characteristic length is needed")
+    chart, dimension = _posture_chart(mechanism, point, 1.0)
+    cache = {}
+
+    def evaluate(posture):
+        key = tuple(np.round(posture, 14))
+        if key not in cache:
+            cache[key] = chart(posture)
+        return cache[key]
+
+    def scaled(jacobian, length):
+        return np.where(rotation_rows, length, 1.0)[:, None] * jacobian
+
+    def best_length(jacobian):
+        result = minimize_scalar(lambda logarithm: _finite(singular_value_ratio(scaled(jacobian,
+                                                                                         np.exp(logarithm)))),
+                                 bounds=(np.log(low), np.log(high)), method="bounded", options={"xatol": 1e-10})
+        return float(np.exp(result.x)), float(result.fun)
+
+    def objective(posture):
+        _, jacobian = evaluate(posture)
+        if jacobian is None or not np.all(np.isfinite(jacobian)):
+            return 1e12
+        return best_length(jacobian)[1]
+
+    starts = [np.zeros(dimension)] + [spread * rng.standard_normal(dimension) for _ in range(restarts)]
+    minima = []
+    for start in starts:
+        result = minimize(objective, start, method="Nelder-Mead",
+                          options={"xatol": 1e-9, "fatol": 1e-12, "maxiter": max_evaluations,
+                                   "maxfev": max_evaluations})
+        minima.append((float(result.fun), np.asarray(result.x)))
+    value, posture = min(minima, key=lambda item: item[0])
+    configuration, jacobian = evaluate(posture)
+    length, kappa = best_length(jacobian)
+
+    def displacements(configuration):
+        return {name: value for name, value in to_displacements(mechanism, configuration).items()}
+
+    found = CharacteristicLength(length, "optimised",
+                                 tuple(float(entry) for entry in _coordinates(displacements(configuration))),
+                                 kappa, "κ(J̄) minimised over L and the posture (Chablat, Caro, Wenger & Angeles "
+                                        "2002 §3.2-3.4), J̄ = H^½ Df T (Dπ T)⁻¹")
+    isotropic, seen = [], []
+    for _, candidate in sorted(minima, key=lambda item: item[0]):
+        configuration, jacobian = evaluate(candidate)
+        if jacobian is None:
+            continue
+        margin = float(singular_value_ratio(scaled(jacobian, length))) - 1.0
+        if margin <= tolerance and not any(np.max(np.abs(configuration - known)) < 1e-6 for known in seen):
+            seen.append(configuration)
+            isotropic.append((displacements(configuration), margin))
+    return found, isotropic
+
+
+def _finite(value):
+    value = float(value)
+    return value if np.isfinite(value) else 1e12
+
+
+def _coordinates(displacements):
+    return np.concatenate([np.atleast_1d(np.asarray(value, dtype=float)) for value in displacements.values()])

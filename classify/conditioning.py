@@ -49,7 +49,7 @@ import numpy as np
 __all__ = [
     "MATRICES", "DEFINITIONS", "ConditionNumbers",
     "singular_value_ratio", "square_root_ratio", "inverse_condition", "normalise_orientation",
-    "condition_numbers", "mechanism_jacobians", "mechanism_condition_numbers",
+    "condition_numbers", "tangent_bases", "mechanism_jacobians", "mechanism_condition_numbers",
 ]
 
 #: the matrices whose condition numbers are reported, in order (JSON keys of ``closedchain conditioning``)
@@ -306,23 +306,19 @@ def mechanism_jacobians(mechanism, points, length=None):
     ValueError
         When the numbers of actuators, outputs and degrees of freedom differ.
     """
-    from mechanisms import closure_and_jacobian, end_effector_jacobian
+    from mechanisms import end_effector_jacobian
 
-    from .batch import _kernel_bases
     from .metrics import metric_root
     from .model import model_of
 
     model = model_of(mechanism, length_scale=length)
     points = np.atleast_2d(np.asarray(points, dtype=float))
     actuator_count, output_count = model.actuators.shape[0], model.end_effector_dimension
-    _, _, constraint = closure_and_jacobian(mechanism, points)
-    scales = model.manifold.ambient.tangent_scales
-    scaled = np.asarray(constraint, dtype=float) * scales
-    freedom = scaled.shape[-1] - _constraint_rank(scaled)
+    basis = tangent_bases(mechanism, points)
+    freedom = basis.shape[-1]
     if not actuator_count == output_count == freedom:
         raise ValueError(f"{mechanism.name}: {actuator_count} actuated coordinates, {output_count} outputs and "
                          f"{freedom} degrees of freedom; condition numbers of A⁻¹B need n of each")
-    basis = scales[:, None] * _kernel_bases(scaled, scaled.shape[-1] - freedom)
     actuator_blocks = model.actuators @ basis
     output_blocks = metric_root(model.end_effector_metric) @ end_effector_jacobian(mechanism, points) @ basis
     regular = inverse_condition(actuator_blocks) > 1e-12
@@ -330,6 +326,23 @@ def mechanism_jacobians(mechanism, points, length=None):
     jacobians = np.swapaxes(np.linalg.solve(np.swapaxes(safe, -1, -2), np.swapaxes(output_blocks, -1, -2)),
                             -1, -2)
     return np.where(regular[:, None, None], jacobians, np.nan), actuator_blocks, output_blocks
+
+
+def tangent_bases(mechanism, points):
+    """Bases T of the tangent spaces of M at a stack of configurations, shape=[b, k, m]: joint-rate vectors
+    ``s·u``, u orthonormal kernel vectors of DΦ·diag(s) (the dimensionless Jacobian), m = k − its largest
+    numerical rank over the stack (rtol 1e-9 against σ₁). Any quantity used through them must not depend on
+    which basis it is (T → T R)."""
+    from mechanisms import closure_and_jacobian
+    from mechanisms.kinematics import kinematics_of
+
+    from .batch import _kernel_bases
+
+    points = np.atleast_2d(np.asarray(points, dtype=float))
+    _, _, constraint = closure_and_jacobian(mechanism, points)
+    scales = kinematics_of(mechanism).ambient.tangent_scales
+    scaled = np.asarray(constraint, dtype=float) * scales
+    return scales[:, None] * _kernel_bases(scaled, _constraint_rank(scaled))
 
 
 def _constraint_rank(scaled):

@@ -29,10 +29,13 @@ import numpy as np
 from .conditioning import MATRICES, condition_numbers
 
 __all__ = ["SINGULAR_INVERSE", "ConditioningMap", "three_prr_map", "five_bar_cartesian_map", "five_bar_joint_map",
-           "hybrid_plane_map", "contours"]
+           "hybrid_plane_map", "hybrid_map", "mechanism_map", "contours"]
 
 #: 1/κ at or below which a reachable grid point counts as singular (κ ≥ 10⁶)
 SINGULAR_INVERSE = 1e-6
+#: 1/κ(J̄) of a general mechanism's map at or below which it is rounding (σ_s/σ_l of a double-precision SVD,
+#: ~1e-16 at an exact singularity): set to 0
+ROUNDING_INVERSE = 1e-12
 
 
 @dataclass(frozen=True, eq=False)
@@ -82,6 +85,19 @@ class ConditioningMap:
         values = self.inverse[matrix][self.reachable]
         return float(np.mean(values)) if values.size else float("nan")
 
+    def index_at_best_orientation(self, matrix):
+        """A 3-PRR map's mean of 1/κ of `matrix` at the orientation where κ(K̄) is best (NaN for other maps).
+
+        Table 1 of Chablat, Caro, Wenger & Angeles 2002: with this average the κ(Ā) column (0.354, 0.511)
+        comes out 0.355 and 0.506 (200 × 200 positions, 360 orientations), where Ā at its own best
+        orientation (:meth:`global_index`) gives 0.375 and 0.524. The B column (0.709) is B at its own best
+        orientation (at K̄'s it is 0.680): no one orientation per position reproduces every column.
+        """
+        if "at_best_orientation" not in self.extra:
+            return float("nan")
+        values = self.extra["at_best_orientation"][matrix][self.reachable]
+        return float(np.mean(values)) if values.size else float("nan")
+
     def summary(self):
         """Per matrix: ``global_index``, ``min_kappa``, ``max_kappa`` (None where ∞), and the grid's shares."""
         size = self.reachable.size
@@ -89,16 +105,26 @@ class ConditioningMap:
         matrices = {}
         for matrix in MATRICES:
             values = self.inverse[matrix][self.reachable]
+            if not np.any(np.isfinite(values)):  # not computed (a general mechanism's A, B without --matrix A|B)
+                matrices[matrix] = {"global_index": None, "min_kappa": None, "max_kappa": None,
+                                    "singular_share": None}
+                continue
             finite = values[values > 0]
             matrices[matrix] = {
                 "global_index": self.global_index(matrix) if values.size else None,
+                **({"global_index_at_best_orientation": self.index_at_best_orientation(matrix)}
+                   if "at_best_orientation" in self.extra and values.size else {}),
                 "min_kappa": float(1.0 / np.max(finite)) if finite.size else None,
                 "max_kappa": (float(1.0 / np.min(values)) if values.size and np.min(values) > 0 else None),
                 "singular_share": float(np.count_nonzero(values <= SINGULAR_INVERSE) / size) if size else None,
             }
-        return {"mode": self.mode, "grid_size": int(size), "shape": list(self.shape),
-                "unreachable_share": float((size - reachable) / size) if size else None,
-                "matrices": matrices}
+        summary = {"mode": self.mode, "grid_size": int(size), "shape": list(self.shape),
+                   "unreachable_share": float((size - reachable) / size) if size else None,
+                   "matrices": matrices}
+        if "singular" in self.extra:  # the batched classification's verdict (a general mechanism's map)
+            summary["classified_singular_share"] = (float(np.count_nonzero(self.extra["singular"]) / size)
+                                                    if size else None)
+        return summary
 
 
 def _inverses(direct, inverse, reachable, length, orientation_columns, definition, scales=None):
@@ -128,12 +154,16 @@ def three_prr_map(xs, ys, signs, length, orientations, mode="", definition="sing
     -------
     ConditioningMap
         A position is reachable when some φ is; each matrix's 1/κ is the largest over the φ's reachable there.
+        ``extra["at_best_orientation"]`` holds each matrix's 1/κ at the one orientation of the best κ(K̄)
+        instead (the map's ``orientation``): its mean, :func:`index_at_best_orientation`, is what reproduces
+        Table 1's κ(Ā) column.
     """
     from .conditioning_matrices import three_prr_matrices
 
     xs, ys = np.asarray(xs, dtype=float), np.asarray(ys, dtype=float)
     grid_x, grid_y = np.meshgrid(xs, ys, indexing="ij")
     best = {matrix: np.full(grid_x.shape, -1.0) for matrix in MATRICES}
+    at_best = {matrix: np.full(grid_x.shape, np.nan) for matrix in MATRICES}
     orientation = np.full(grid_x.shape, np.nan)
     for phi in np.asarray(orientations, dtype=float):
         poses = np.stack([grid_x, grid_y, np.full(grid_x.shape, phi)], axis=-1)
@@ -142,12 +172,14 @@ def three_prr_map(xs, ys, signs, length, orientations, mode="", definition="sing
         better = reachable & (values["B-1A"] > best["B-1A"])
         orientation = np.where(better, phi, orientation)
         for matrix in MATRICES:
+            at_best[matrix] = np.where(better, values[matrix], at_best[matrix])
             best[matrix] = np.where(reachable, np.fmax(best[matrix], values[matrix]), best[matrix])
     reachable = best["B"] >= 0
     inverse = {matrix: np.where(reachable, best[matrix], np.nan) for matrix in MATRICES}
     return ConditioningMap(mode, ("x", "y"), (xs, ys), inverse, reachable, float(length), orientation, definition,
                            {"signs": tuple(signs), "orientations": np.asarray(orientations, dtype=float),
-                            "design": {"r": platform_radius, "R": base_radius, "l": leg_length}})
+                            "design": {"r": platform_radius, "R": base_radius, "l": leg_length},
+                            "at_best_orientation": at_best})
 
 
 def five_bar_cartesian_map(xs, ys, signs, mode="", definition="singular_value_ratio", base=6.0, proximal=8.0,
@@ -213,6 +245,118 @@ def hybrid_plane_map(distances, alongs, signs, mode="", definition="singular_val
     return ConditioningMap(mode, ("d1", "y"), (distances, alongs), values, reachable, 1.0, None, definition,
                            {"signs": tuple(signs), "angles": angles,
                             "design": {"L0": base, "L1": proximal, "L2": distal}})
+
+
+def hybrid_map(xs, ys, zs, signs, mode="", definition="singular_value_ratio", base=6.0, proximal=8.0, distal=5.0):
+    """The hybrid's 3-D map over Cartesian points P = (x, y, z) in a working mode (1998 §5, Fig. 6).
+
+    The catalogue's frame: AB is the y axis (A at the origin), the base revolute turns the five-bar's plane
+    about it. A point is at d₁ = √(x² + z²) from AB (eq. 27) and at y along it; the plane through P has
+    θ1 = atan2(−z, x). Since θ1 enters neither A nor B (eqs. 22a-b), 1/κ depends on (d₁, y) only: the
+    isoconditioning surfaces are the curves of :func:`hybrid_plane_map` turned about AB (surfaces of
+    revolution, §5.1). Each point is taken in the plane where it lies on the side d₁ ≥ 0.
+
+    Parameters
+    ----------
+    xs, ys, zs : array_like, shape=[nx], [ny], [nz]
+    signs : tuple of two ±1
+        The five-bar's working mode (signs of sin(θ4 − θ2), sin(θ5 − θ3), B's last two entries).
+
+    Returns
+    -------
+    ConditioningMap
+        Three-dimensional (axes ``"x"``, ``"y"``, ``"z"``); ``extra["distance"]`` holds d₁ and
+        ``extra["theta1"]`` θ1 at each point, ``extra["angles"]`` θ2..θ5.
+    """
+    from .conditioning_matrices import five_bar_inverse_kinematics, hybrid_matrices
+
+    xs, ys, zs = (np.asarray(values, dtype=float) for values in (xs, ys, zs))
+    grid_x, grid_y, grid_z = np.meshgrid(xs, ys, zs, indexing="ij")
+    distance = np.hypot(grid_x, grid_z)
+    points = np.stack([grid_y, distance], axis=-1)
+    angles, reachable = five_bar_inverse_kinematics(points, signs, base, proximal, distal)
+    safe = np.where(reachable[..., None], angles, 0.0)
+    direct, inverse = hybrid_matrices(safe, proximal, distal)
+    values = _inverses(direct, inverse, reachable, 1.0, (), definition, (distal, proximal * distal))
+    return ConditioningMap(mode, ("x", "y", "z"), (xs, ys, zs), values, reachable, 1.0, None, definition,
+                           {"signs": tuple(signs), "angles": angles, "distance": distance,
+                            "theta1": np.arctan2(-grid_z, grid_x),
+                            "design": {"L0": base, "L1": proximal, "L2": distal}})
+
+
+def mechanism_map(mechanism, points, reachable, axes, axis_names, length=None, mode="", derived=False,
+                  survey=None, rtol=1e-6):
+    """The conditioning map of any mechanism (n inputs = n outputs = n dof) over an assembled grid, batched.
+
+    Parameters
+    ----------
+    mechanism : Mechanism
+    points : array_like, shape=[g, point_size]
+        The grid's configurations in C order (NaN rows where not reached), e.g. from the continuation of
+        ``closedchain map`` (every point on the starting configuration's branch).
+    reachable : array_like of bool, shape=[g]
+    axes : sequence of array_like
+        The values along each grid axis (g = the product of their lengths).
+    axis_names : sequence of str
+    length : float, optional
+        The characteristic length L of the end-effector metric (default: the mechanism's).
+    mode : str
+        The label stored on the map (the working mode or branch the grid was assembled on).
+    derived : bool
+        Also κ(A), κ(B) of the derived relation (:func:`classify.conditioning.mechanism_condition_numbers`,
+        one configuration at a time, ~10 ms each); otherwise they are NaN (not computed).
+    survey : classify.survey.Survey, optional
+        For the batched classification.
+    rtol : float
+        The classification's relative rank tolerance.
+
+    Returns
+    -------
+    ConditioningMap
+        ``inverse["A-1B"]`` = ``inverse["B-1A"]`` = 1/κ(J̄) from the batched Jacobians
+        (:func:`classify.conditioning.mechanism_jacobians`; 0 where the actuators do not parametrise M or
+        1/κ ≤ :data:`ROUNDING_INVERSE`);
+        ``inverse["lambda"]`` = λₙ/λ₁ from :func:`classify.batch.classify_many`'s ``condition_number``
+        (Park & Kim 1999 eq. 3; 0 where it is undefined: an actuator or end-effector singularity).
+        ``extra["singular"]`` (bool, grid shape): the batched classification finds a singularity of any kind;
+        ``extra["kinds"]`` its columns, shape ``[*shape, 3]`` (:data:`classify.report.KINDS` order);
+        ``extra["points"]`` the configurations.
+    """
+    from .batch import classify_many
+    from .conditioning import inverse_condition, mechanism_condition_numbers, mechanism_jacobians
+    from .model import model_of
+
+    axes = tuple(np.asarray(values, dtype=float) for values in axes)
+    shape = tuple(len(values) for values in axes)
+    points = np.asarray(points, dtype=float).reshape(-1, np.shape(points)[-1])
+    reachable = np.asarray(reachable, dtype=bool).reshape(-1)
+    model = model_of(mechanism, length_scale=length)
+    resolved = float(model.mechanism.characteristic_length if length is None else length)
+    rows = np.flatnonzero(reachable)
+    inverse = {matrix: np.full(reachable.size, np.nan) for matrix in MATRICES}
+    kinds = np.zeros((reachable.size, 3), dtype=bool)
+    if rows.size:
+        jacobians = mechanism_jacobians(mechanism, points[rows], length)[0]
+        defined = np.all(np.isfinite(jacobians), axis=(-2, -1))
+        values = np.zeros(rows.size)
+        values[defined] = inverse_condition(jacobians[defined])
+        values[values <= ROUNDING_INVERSE] = 0.0   # σ_s/σ_l at the rounding unit: singular
+        inverse["A-1B"][rows] = values
+        inverse["B-1A"][rows] = values
+        result = classify_many(model, points[rows], survey=survey, rtol=rtol)
+        condition = np.asarray(result.condition_number, dtype=float)
+        with np.errstate(divide="ignore"):
+            inverse["lambda"][rows] = np.where(np.isfinite(condition) & (condition > 0), 1.0 / condition, 0.0)
+        kinds[rows] = result.singular
+        if derived:
+            numbers = mechanism_condition_numbers(mechanism, points[rows], length, rtol=max(rtol, 1e-9))
+            for matrix in ("A", "B"):
+                inverse[matrix][rows] = np.nan_to_num(numbers.inverse(matrix), nan=0.0)
+    grid_inverse = {matrix: values.reshape(shape) for matrix, values in inverse.items()}
+    return ConditioningMap(mode, tuple(axis_names), axes, grid_inverse, reachable.reshape(shape), resolved, None,
+                           "singular_value_ratio",
+                           {"singular": kinds.any(axis=1).reshape(shape), "kinds": kinds.reshape(shape + (3,)),
+                            "points": points.reshape(shape + (points.shape[-1],)), "derived": bool(derived)})
 
 
 def contours(conditioning_map, matrix, levels):

@@ -1,6 +1,7 @@
 """``closedchain conditioning NAME|FILE [--param K=V] [--configuration C] [--at JSON] [--matrix M] [--mode N|all]
-[--grid X=a:b:n Y=a:b:n [PHI=a:b:n]] [--length L|auto] [--out FILE] [--format json|text]``: condition numbers
-and isoconditioning maps (Chablat, Caro, Wenger & Angeles 2002; Chablat, Wenger & Angeles 1998).
+[--grid X=a:b:n Y=a:b:n [PHI=a:b:n | Z=a:b:n] | NAME=a:b:n ...] [--length L|auto] [--out FILE]
+[--format json|text]``: condition numbers and isoconditioning maps (Chablat, Caro, Wenger & Angeles 2002;
+Chablat, Wenger & Angeles 1998).
 
 Without ``--grid``: κ of Ā, B, Ā⁻¹B, B⁻¹Ā and Park & Kim's λ₁/λₙ at the one
 configuration (``home ⊕ --at``, or the named configuration). The catalogue's
@@ -20,8 +21,28 @@ working mode (``--mode``, default all) the map of 1/κ, and JSON
 (``.png``, ``.svg``) or the grid values (``.npz``, ``.json``).
 
 ``--length auto``: the 3-PRR's closed form √2 r sin γ at γ = π/2 (2002 §3.4);
-for another mechanism with an orientation output, the L minimising κ(J̄) at the
-configuration (scipy); not needed (null) without an orientation output.
+for another mechanism with an orientation output, the L minimising κ(J̄) over L
+and the posture (scipy; :func:`classify.characteristic_length.mechanism_optimal_length`),
+reported with the optimal posture (joint displacements) and the isotropic
+postures found (κ = 1); not needed (null) without an orientation output.
+
+Any mechanism with n inputs = n outputs = n dof (and a catalogue entry with
+axes other than its paper's X, Y[, PHI | Z]) maps per working mode (its
+inverse-kinematics branches at the configuration's pose,
+:func:`classify.working_modes.mechanism_working_modes`; ``--mode N|all``) over
+a Cartesian grid ``--grid X=a:b:n Y=a:b:n [Z=a:b:n | PHI=a:b:n]`` (a position
+output, or a planar pose; ``grid_kind`` "cartesian": the mode followed over the
+grid up to its serial singularities,
+:func:`classify.working_modes.follow_working_mode`) or over a grid of joint
+coordinates ``--grid NAME=a:b:n ...`` as ``closedchain map`` (``grid_kind``
+"joint": assembled by continuation from the mode's configuration, on its
+branch; ``held`` names the coordinates held); 1/κ(J̄) and Park & Kim's
+λₙ/λ₁ are computed by the batched engine (κ(A), κ(B) of the derived relation
+only with ``--matrix A|B``); unreachable points are NaN, the batched
+classification's singular points counted (``classified_singular_share``) and
+marked on the figure. The hybrid (``hybrid``) maps over X, Y, Z (AB the Y
+axis); its figure shows the isoconditioning surfaces (the in-plane curves
+turned about AB).
 """
 
 from __future__ import annotations
@@ -35,6 +56,10 @@ __all__ = ["add_parser", "run"]
 MATRIX_CHOICES = ("A", "B", "A-1B", "B-1A", "lambda")
 #: catalogue entries with the papers' own A and B
 PAPER_ENTRIES = ("3-prr", "five-bar")
+#: the Cartesian grid axes of the papers' maps, per catalogue entry (any other --grid is over joint coordinates)
+PAPER_AXES = {"3-prr": {"X", "Y", "PHI"}, "five-bar": {"X", "Y"}, "hybrid": {"X", "Y", "Z"}}
+#: most grid points of a general mechanism's map (per working mode: continuation and a classification each)
+GENERAL_GRID_LIMIT = 40_000
 FIVE_BAR_MODES = ("++", "+-", "-+", "--")
 #: default orientations searched at each 3-PRR position
 DEFAULT_ORIENTATIONS = 72
@@ -51,7 +76,9 @@ def add_parser(commands):
                         help="the matrix of the maps, figure and scalar fields (default B-1A, the papers' K̄)")
     parser.add_argument("--mode", default="all", metavar="N|all", help="working mode of the maps (default all)")
     parser.add_argument("--grid", nargs="+", action="extend", default=None, metavar="X=a:b:n",
-                        help="grid axes X=a:b:n Y=a:b:n [PHI=a:b:n] (3-prr, five-bar)")
+                        help="grid axes: the papers' X=a:b:n Y=a:b:n [PHI=a:b:n] (3-prr), X Y (five-bar), X Y Z "
+                             "(hybrid); any mechanism: its end-effector's X Y [Z | PHI], or joint coordinates "
+                             "NAME=a:b:n (as closedchain map)")
     parser.add_argument("--length", default="auto", metavar="L|auto", help="characteristic length (default auto)")
     parser.add_argument("--out", default=None, metavar="FILE", help="figure (.png, .svg) or values (.npz, .json)")
     parser.add_argument("--format", choices=("json", "text"), default="json", help="what is printed (default json)")
@@ -84,13 +111,19 @@ def _axis(text):
     return name.strip().upper(), (start, stop, count)
 
 
+def _paper_grid(texts, entry):
+    """Whether every --grid axis is one of the paper's Cartesian axes of `entry` (else: joint coordinates)."""
+    return all(text.partition("=")[0].strip().upper() in PAPER_AXES[entry] for text in texts)
+
+
 def _grid(texts, entry):
     axes = dict(_axis(text) for text in texts)
-    allowed = {"X", "Y", "PHI"} if entry == "3-prr" else {"X", "Y"}
+    allowed = PAPER_AXES[entry]
+    required = {"X", "Y", "Z"} if entry == "hybrid" else {"X", "Y"}
     unknown = sorted(set(axes) - allowed)
-    if unknown or not {"X", "Y"} <= set(axes) or len(axes) != len(texts):
-        raise InputError(f"--grid: expected the axes {', '.join(sorted(allowed))} once each (X and Y required), got "
-                         f"{', '.join(texts)}")
+    if unknown or not required <= set(axes) or len(axes) != len(texts):
+        raise InputError(f"--grid: expected the axes {', '.join(sorted(allowed))} once each "
+                         f"({', '.join(sorted(required))} required), got {', '.join(texts)}")
     return axes
 
 
@@ -118,8 +151,6 @@ def _modes(text, labels):
 
 
 def run(arguments, out):
-    import numpy as np
-
     from mechanisms import configuration
 
     length = _length_option(arguments.length)
@@ -130,9 +161,11 @@ def run(arguments, out):
     if entry == "3-prr-inputs":
         entry = "3-prr"
     if arguments.grid is not None:
-        if entry not in PAPER_ENTRIES:
-            raise InputError("--grid: isoconditioning maps are available for the catalogue entries 3-prr and five-bar")
-        result, maps = _maps(arguments, mechanism, point, entry, length)
+        if entry in PAPER_AXES and _paper_grid(arguments.grid, entry):
+            result, maps = (_hybrid_maps(arguments, mechanism, length) if entry == "hybrid"
+                            else _maps(arguments, mechanism, point, entry, length))
+        else:
+            result, maps = _general_maps(arguments, mechanism, point, length)
     else:
         result, maps = _single(mechanism, point, entry, length), None
     result = {"source": arguments.file, "mechanism": mechanism.name, **result}
@@ -147,7 +180,7 @@ def run(arguments, out):
 def _single(mechanism, point, entry, length):
     import numpy as np
 
-    from ..characteristic_length import CharacteristicLength, best_length_at
+    from ..characteristic_length import CharacteristicLength
     from ..conditioning import condition_numbers, mechanism_condition_numbers, mechanism_jacobians
     from ..conditioning_matrices import five_bar_matrices, three_prr_matrices, three_prr_pose_of
 
@@ -178,24 +211,14 @@ def _single(mechanism, point, entry, length):
         relation = "paper"
         extra = {"angles": angles.tolist()}
     else:
-        from ..metrics import end_effector_metric
-
         try:
-            rotations = end_effector_metric(mechanism, 1.0) != end_effector_metric(mechanism, 2.0)
-            has_orientation = bool(np.any(rotations))
-            if length is not None:
-                found = CharacteristicLength(length, "given")
-            elif has_orientation:
-                base = mechanism.characteristic_length
-                found = best_length_at(lambda value: mechanism_jacobians(mechanism, point[None], value)[0][0],
-                                       (base * 1e-3, base * 1e3))
-            else:
-                found = CharacteristicLength(None, "not_needed", reference="no orientation output")
+            mechanism_jacobians(mechanism, point[None])   # n actuators = n outputs = n dof, before any search
+            found, isotropic = _general_length(mechanism, point, length)
             numbers = mechanism_condition_numbers(mechanism, point[None], found.value)
         except ValueError as error:
             raise InputError(str(error)) from None
         relation = "derived"
-        extra = {}
+        extra = {"isotropic": isotropic}
     kappa = numbers.at(0) if np.ndim(numbers.values["A"]) else {key: _number(value) for key, value in
                                                                  numbers.values.items()}
     return {"relation": relation, "normalisation": numbers.normalisation, "definition": numbers.definition,
@@ -272,16 +295,180 @@ def _maps(arguments, mechanism, point, entry, length):
         found = CharacteristicLength(None, "not_needed", reference="no orientation output")
         isotropic = []
         grid = {"x": list(axes["X"]), "y": list(axes["Y"])}
+    return ({"relation": "paper", "matrix": arguments.matrix, "characteristic_length": found.to_dict(),
+             "isotropic": isotropic, "modes": _mode_entries(maps, arguments.matrix), "grid": grid}, maps)
+
+
+def _mode_entries(maps, matrix):
+    """The JSON entry of each map: its mode, the chosen matrix's index and extremes, the grid's shares."""
     entries = []
     for conditioning_map in maps:
         summary = conditioning_map.summary()
-        chosen = summary["matrices"][arguments.matrix]
-        entries.append({"mode": conditioning_map.mode, "global_index": chosen["global_index"],
-                        "min_kappa": chosen["min_kappa"], "max_kappa": chosen["max_kappa"],
-                        "grid_size": summary["grid_size"], "unreachable_share": summary["unreachable_share"],
-                        "singular_share": chosen["singular_share"], "matrices": summary["matrices"]})
-    return ({"relation": "paper", "matrix": arguments.matrix, "characteristic_length": found.to_dict(),
-             "isotropic": isotropic, "modes": entries, "grid": grid}, maps)
+        chosen = summary["matrices"][matrix]
+        entry = {"mode": conditioning_map.mode, "global_index": chosen["global_index"],
+                 "min_kappa": chosen["min_kappa"], "max_kappa": chosen["max_kappa"],
+                 "grid_size": summary["grid_size"], "unreachable_share": summary["unreachable_share"],
+                 "singular_share": chosen["singular_share"], "matrices": summary["matrices"]}
+        if "classified_singular_share" in summary:
+            entry["classified_singular_share"] = summary["classified_singular_share"]
+        entries.append(entry)
+    return entries
+
+
+def _hybrid_maps(arguments, mechanism, length):
+    """The hybrid's 3-D Cartesian maps (Chablat, Wenger & Angeles 1998 §5): --grid X=… Y=… Z=…, AB the Y axis."""
+    import numpy as np
+
+    from ..characteristic_length import CharacteristicLength
+    from ..isoconditioning import hybrid_map
+
+    if length is not None:
+        raise InputError("--length: the hybrid's outputs are positions: no characteristic length applies")
+    axes = _grid(arguments.grid, "hybrid")
+    xs, ys, zs = (np.linspace(*axes[name]) for name in ("X", "Y", "Z"))
+    if len(xs) * len(ys) * len(zs) > GRID_LIMIT:
+        raise InputError(f"--grid: at most {GRID_LIMIT} points (X × Y × Z)")
+    joints = {name: np.array(mechanism.joint(name).point, dtype=float) for name in "ABCP"}
+    base = float(np.linalg.norm(joints["B"] - joints["A"]))
+    proximal = float(np.linalg.norm(joints["C"] - joints["A"]))
+    distal = float(np.linalg.norm(joints["P"] - joints["C"]))
+    modes = _modes(arguments.mode, FIVE_BAR_MODES)
+    maps = [hybrid_map(xs, ys, zs, tuple(1 if sign == "+" else -1 for sign in mode), mode=mode, base=base,
+                       proximal=proximal, distal=distal) for mode in modes]
+    found = CharacteristicLength(None, "not_needed", reference="no orientation output")
+    grid = {"x": list(axes["X"]), "y": list(axes["Y"]), "z": list(axes["Z"])}
+    return ({"relation": "paper", "normalisation": "Chablat, Wenger & Angeles 1998 eqs. 22a-b (the five-bar's "
+                                                   "plane frame; θ1 enters neither A nor B)",
+             "matrix": arguments.matrix, "characteristic_length": found.to_dict(), "isotropic": [],
+             "modes": _mode_entries(maps, arguments.matrix), "grid": grid}, maps)
+
+
+def _general_maps(arguments, mechanism, point, length):
+    """Maps of any mechanism over a joint grid (--grid NAME=a:b:n …), one per working mode (IK branch)."""
+    import numpy as np
+
+    from mechanisms import to_displacements
+
+    from ..isoconditioning import mechanism_map
+    from ..working_modes import mechanism_working_modes
+    from . import _configurations as configurations
+    from ._grid import parse_grid
+    from .map_command import assemble_grid, held_columns
+
+    cartesian = _cartesian_grid(arguments.grid, mechanism)
+    grid = None if cartesian is not None else parse_grid(arguments.grid, mechanism)
+    try:
+        found, isotropic = _general_length(mechanism, point, length)
+        modes = mechanism_working_modes(mechanism, point)
+        size = grid.size if grid is not None else math.prod(len(values) for values in cartesian[1])
+        if size * (len(modes) if arguments.mode == "all" else 1) > GENERAL_GRID_LIMIT:
+            raise InputError(f"--grid: at most {GENERAL_GRID_LIMIT} points over all the working modes mapped "
+                             f"(a general mechanism's map assembles and classifies every point)")
+        chosen = _modes(arguments.mode, [mode.label for mode in modes])
+        if cartesian is not None:
+            from ..working_modes import follow_working_mode, output_targets
+
+            names, axes, values = cartesian
+            targets = output_targets(mechanism, _output_values(mechanism, point, names, axes))
+            shape = tuple(len(axis) for axis in axes)
+            held, description = None, {name: list(value) for name, value in zip(names, values)}
+        else:
+            held = held_columns(mechanism, grid)
+            names, axes, shape, description = grid.names, grid.axes(), grid.shape, grid.to_dict()
+        maps = []
+        for mode in modes:
+            if mode.label not in chosen:
+                continue
+            if cartesian is not None:
+                points, reachable = follow_working_mode(mechanism, mode.point, targets, shape)
+            else:
+                start = configurations.displacement_vector(mechanism, to_displacements(mechanism, mode.point))
+                requested = np.array(np.broadcast_to(start, (grid.size, start.size)))
+                requested[:, list(grid.columns)] = grid.values().reshape(grid.size, len(grid.columns))
+                points, reachable = assemble_grid(mechanism, mode.point, configurations.points_of(mechanism, requested),
+                                                  grid.shape, held)
+            maps.append(mechanism_map(mechanism, points, reachable, axes, names, found.value, mode.label,
+                                      derived=arguments.matrix in ("A", "B")))
+    except ValueError as error:
+        raise InputError(str(error)) from None
+    return ({"relation": "derived", "normalisation": _DERIVED_NORMALISATION, "matrix": arguments.matrix,
+             "characteristic_length": found.to_dict(), "isotropic": isotropic,
+             "working_modes": [mode.to_dict() for mode in modes],
+             "grid_kind": "joint" if cartesian is None else "cartesian",
+             "held": None if held is None else [mechanism.coordinate_names[column] for column in held],
+             "modes": _mode_entries(maps, arguments.matrix), "grid": description}, maps)
+
+
+#: the axes of a general mechanism's Cartesian grid: position outputs (x, y[, z]), planar poses (x, y[, φ])
+CARTESIAN_AXES = ("X", "Y", "Z", "PHI")
+
+
+def _cartesian_grid(texts, mechanism):
+    """(names, axes, [a, b, n] per axis) of a Cartesian --grid (every axis one of X, Y, Z, PHI and none a
+    coordinate name of the mechanism), in the order X, Y, Z, PHI; None for a grid of joint coordinates."""
+    import numpy as np
+
+    names = [text.partition("=")[0].strip() for text in texts]
+    if not all(name.upper() in CARTESIAN_AXES and name not in mechanism.coordinate_names for name in names):
+        return None
+    axes = dict(_axis(text) for text in texts)
+    if len(axes) != len(texts) or not {"X", "Y"} <= set(axes):
+        raise InputError(f"--grid: a Cartesian grid needs X and Y once each (and Z or PHI), got {', '.join(texts)}")
+    order = [name for name in CARTESIAN_AXES if name in axes]
+    return (tuple(name.lower() if name != "PHI" else "φ" for name in order),
+            tuple(np.linspace(*axes[name]) for name in order), tuple(axes[name] for name in order))
+
+
+def _output_values(mechanism, point, names, axes):
+    """The output coordinates of every grid point, shape=[g, d]: (x, y[, z]) or (x, y, φ) — a planar pose's φ,
+    when not on the grid, is the configuration's own (its link's rotation from home)."""
+    import numpy as np
+
+    from mechanisms.kinematics import end_effector, end_effector_dimension, kinematics_of
+
+    compiled = kinematics_of(mechanism)
+    columns = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, len(axes))
+    by_name = dict(zip(names, columns.T))
+    if compiled.output == "pose" and compiled.space == "planar":
+        frame = end_effector(mechanism, point[None])[0]
+        turn = np.full(len(columns), math.atan2(frame[1, 0], frame[0, 0]))
+        if "z" in by_name:
+            raise InputError("--grid: a planar pose's Cartesian grid is over X, Y and PHI, not Z")
+        return np.stack([by_name["x"], by_name["y"], by_name.get("φ", turn)], axis=-1)
+    if compiled.output == "position":
+        wanted = ("x", "y", "z")[:end_effector_dimension(mechanism)]
+        if set(by_name) != set(wanted):
+            raise InputError(f"--grid: this mechanism's output is a position ({', '.join(wanted).upper()}): "
+                             f"the Cartesian grid needs exactly those axes")
+        return np.stack([by_name[name] for name in wanted], axis=-1)
+    raise InputError(f"--grid: a Cartesian grid needs a position or planar pose output; this one is a "
+                     f"{compiled.space} {compiled.output} (grid its joint coordinates instead)")
+
+
+_DERIVED_NORMALISATION = ("A-1B, B-1A: J̄ = H^½ Df T (E^½ Dπ T)⁻¹ (batched); lambda: Park & Kim's λ₁/λₙ "
+                          "(the batched classification); A, B (only with --matrix A|B): the derived relation, rows "
+                          "of [B A] orthonormal in the weighted coordinates")
+
+
+def _general_length(mechanism, point, length):
+    """(CharacteristicLength, isotropic postures) of a general mechanism: given, not needed, or optimised."""
+    from ..characteristic_length import CharacteristicLength, mechanism_optimal_length
+
+    if not _has_orientation(mechanism):
+        return CharacteristicLength(None, "not_needed", reference="no orientation output"), []
+    if length is not None:
+        return CharacteristicLength(length, "given"), []
+    found, isotropic = mechanism_optimal_length(mechanism, point)
+    return found, [{"displacements": displacements, "kappa_minus_one": margin}
+                   for displacements, margin in isotropic]
+
+
+def _has_orientation(mechanism):
+    import numpy as np
+
+    from ..metrics import end_effector_metric
+
+    return bool(np.any(end_effector_metric(mechanism, 1.0) != end_effector_metric(mechanism, 2.0)))
 
 
 def _write(arguments, result, maps):
@@ -292,9 +479,7 @@ def _write(arguments, result, maps):
     if suffix in ("png", "svg"):
         if maps is None:
             raise InputError("--out: a figure needs --grid")
-        from ..figures.conditioning import isoconditioning_figure
-
-        figure = isoconditioning_figure(maps, arguments.matrix, units="mm" if result["mechanism"] == "3-prr" else "")
+        figure = _figure(maps, arguments.matrix, result)
         try:
             figure.savefig(path, format=suffix)
         except OSError as error:
@@ -302,9 +487,13 @@ def _write(arguments, result, maps):
     elif suffix == "npz":
         if maps is None:
             raise InputError("--out: grid values need --grid")
-        arrays = {"x": maps[0].axes[0], "y": maps[0].axes[1]}
+        arrays = {f"axis_{index}": values for index, values in enumerate(maps[0].axes)}
+        arrays["axis_names"] = np.array(maps[0].axis_names)
+        arrays.update({"x": maps[0].axes[0], "y": maps[0].axes[1]})
         for conditioning_map in maps:
             arrays[f"reachable_{conditioning_map.mode}"] = conditioning_map.reachable
+            if "singular" in conditioning_map.extra:
+                arrays[f"singular_{conditioning_map.mode}"] = conditioning_map.extra["singular"]
             for matrix, values in conditioning_map.inverse.items():
                 arrays[f"inverse_kappa_{matrix}_{conditioning_map.mode}"] = values
         try:
@@ -322,6 +511,30 @@ def _write(arguments, result, maps):
         raise InputError(f"--out: expected a .png, .svg, .npz or .json file, got {path[:60]!r}")
 
 
+def _figure(maps, matrix, result):
+    """The figure of --out .png/.svg: 2-D maps with their curves; the hybrid's surfaces of revolution."""
+    import numpy as np
+
+    from ..figures.conditioning import isoconditioning_figure, isoconditioning_surface_figure
+
+    if maps[0].axis_names == ("x", "y", "z"):  # the hybrid: its in-plane maps turned about AB
+        from ..isoconditioning import hybrid_plane_map
+
+        xs, ys, zs = maps[0].axes
+        radius = float(np.max(np.hypot(*np.meshgrid(xs, zs, indexing="ij"))))
+        distances = np.linspace(0.0, radius, max(len(xs), len(zs), 2))
+        design = maps[0].extra["design"]
+        plane_maps = [hybrid_plane_map(distances, ys, conditioning_map.extra["signs"], conditioning_map.mode,
+                                       base=design["L0"], proximal=design["L1"], distal=design["L2"])
+                      for conditioning_map in maps]
+        return isoconditioning_surface_figure(plane_maps, matrix)
+    if len(maps[0].axes) != 2:
+        raise InputError(f"--out: a figure needs a grid of two axes, got {len(maps[0].axes)} (write .npz or .json)")
+    if result["relation"] == "derived":
+        return isoconditioning_figure(maps, matrix, equal_aspect=result.get("grid_kind") == "cartesian")
+    return isoconditioning_figure(maps, matrix, units="mm" if result["mechanism"] == "3-prr" else "")
+
+
 def _text(result):
     lines = [f"{result['mechanism']} ({result['relation']} relation)"]
     length = result["characteristic_length"]
@@ -329,6 +542,10 @@ def _text(result):
     if "kappa" in result:
         for matrix, value in result["kappa"].items():
             lines.append(f"  κ({matrix}) = {'∞ or undefined' if value is None else f'{value:.6g}'}")
+    if result.get("working_modes"):
+        lines.append(f"working modes (inverse-kinematics branches at the pose): {len(result['working_modes'])}")
+    if result.get("isotropic"):
+        lines.append(f"isotropic postures found: {len(result['isotropic'])}")
     for entry in result.get("modes", []):
         index = entry["global_index"]
         lines.append(f"  mode {entry['mode']}: global index of 1/κ({result['matrix']}) = "

@@ -11,7 +11,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["MATRIX_LABELS", "SINGULAR_LEVEL", "isoconditioning_figure"]
+__all__ = ["MATRIX_LABELS", "SINGULAR_LEVEL", "isoconditioning_figure", "isoconditioning_surface_figure"]
 
 #: the papers' names of the matrices
 MATRIX_LABELS = {"A": "Ā", "B": "B", "A-1B": "J̄ = Ā⁻¹B", "B-1A": "K̄ = B⁻¹Ā", "lambda": "λ₁/λₙ (Park & Kim)"}
@@ -19,7 +19,8 @@ MATRIX_LABELS = {"A": "Ā", "B": "B", "A-1B": "J̄ = Ā⁻¹B", "B-1A": "K̄ = B
 SINGULAR_LEVEL = 1e-3
 
 
-def isoconditioning_figure(maps, matrix, levels=(0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9), units=""):
+def isoconditioning_figure(maps, matrix, levels=(0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9), units="",
+                           equal_aspect=True):
     """One panel per working mode: filled 1/κ, isoconditioning curves, singularity curves.
 
     Parameters
@@ -32,12 +33,17 @@ def isoconditioning_figure(maps, matrix, levels=(0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0
         Levels of 1/κ drawn as curves.
     units : str
         Appended to the axis labels (``"mm"``).
+    equal_aspect : bool
+        One unit the same length on both axes (Cartesian maps; not for a grid of mixed joint coordinates).
 
     Returns
     -------
     matplotlib.figure.Figure
         Each axes has the title ``"mode M: 1/κ(X), index G"``, x and y labels in the papers' symbols, the
-        contour sets of `levels` (gid ``"isoconditioning"``) and of the singularity (gid ``"singularity"``).
+        contour sets of `levels` (gid ``"isoconditioning"``) and of the singularity (gid ``"singularity"``);
+        a general mechanism's map (:func:`classify.isoconditioning.mechanism_map`) also marks the grid
+        points the batched classification finds singular (gid ``"singular_points"``, red crosses) and the
+        unreachable ones (gid ``"unreachable_points"``, grey dots).
     """
     from matplotlib.figure import Figure
 
@@ -57,10 +63,69 @@ def isoconditioning_figure(maps, matrix, levels=(0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0
         singular = axes.contour(grid_first, grid_second, values, levels=[SINGULAR_LEVEL], colors="red",
                                 linewidths=1.2)
         singular.set_gid("singularity")
+        if "singular" in conditioning_map.extra:
+            singular = conditioning_map.extra["singular"] & conditioning_map.reachable
+            marks = axes.scatter(grid_first[singular], grid_second[singular], marker="x", color="red", s=14,
+                                 label="singular (classification)")
+            marks.set_gid("singular_points")
+            unreachable = ~conditioning_map.reachable
+            dots = axes.scatter(grid_first[unreachable], grid_second[unreachable], marker=".", color="0.6", s=6,
+                                label="not reached on the branch")
+            dots.set_gid("unreachable_points")
         axes.set_xlabel(f"{conditioning_map.axis_names[0]}{suffix}")
         axes.set_ylabel(f"{conditioning_map.axis_names[1]}{suffix}")
-        axes.set_aspect("equal")
+        if equal_aspect:
+            axes.set_aspect("equal")
         axes.set_title(f"mode {conditioning_map.mode}: 1/κ({MATRIX_LABELS[matrix]}), "
                        f"index {conditioning_map.global_index(matrix):.3f}", fontsize=8)
     figure.colorbar(image, ax=list(axes_list), label=f"1/κ({MATRIX_LABELS[matrix]})")
+    return figure
+
+
+def isoconditioning_surface_figure(plane_maps, matrix, levels=(0.2, 0.4, 0.6), turns=40, sweep=1.5 * np.pi):
+    """The hybrid's isoconditioning surfaces: its in-plane curves turned about AB (Chablat, Wenger & Angeles
+    1998 §5.1), one 3-D panel (mplot3d) per working mode.
+
+    Parameters
+    ----------
+    plane_maps : sequence of classify.isoconditioning.ConditioningMap
+        Maps of :func:`classify.isoconditioning.hybrid_plane_map` over (d₁, y).
+    matrix : str
+    levels : sequence of float
+        Levels of 1/κ; each curve (d₁(s), y(s)) becomes the surface (d₁ cos t, y, −d₁ sin t), t ∈ [0, sweep]
+        (the catalogue's frame: AB is the y axis; a part is left open to show the inside).
+    turns : int
+        Samples of t.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+        Each 3-D axes holds one surface (gid ``"isoconditioning_surface"``, label ``"1/κ = level"``) per curve
+        piece of each level, axes labelled x, y, z.
+    """
+    from matplotlib import colormaps
+    from matplotlib.figure import Figure
+
+    from ..isoconditioning import contours
+
+    figure = Figure(figsize=(4.2 * len(plane_maps), 4.2), layout="constrained")
+    colours = colormaps["viridis"]
+    angles = np.linspace(0.0, sweep, turns)
+    for index, plane_map in enumerate(plane_maps):
+        axes = figure.add_subplot(1, len(plane_maps), index + 1, projection="3d")
+        for level, lines in contours(plane_map, matrix, levels).items():
+            for line in lines:
+                if len(line) < 2:
+                    continue
+                distance, along = line[:, 0], line[:, 1]
+                surface = axes.plot_surface(distance[:, None] * np.cos(angles)[None], along[:, None]
+                                            * np.ones_like(angles)[None], -distance[:, None] * np.sin(angles)[None],
+                                            color=colours(level), alpha=0.55, linewidth=0, shade=True,
+                                            label=f"1/κ = {level:g}")
+                surface.set_gid("isoconditioning_surface")
+        axes.set_xlabel("x")
+        axes.set_ylabel("y (along AB)")
+        axes.set_zlabel("z")
+        axes.set_title(f"mode {plane_map.mode}: 1/κ({MATRIX_LABELS[matrix]}) = {', '.join(map(str, levels))}",
+                       fontsize=8)
     return figure

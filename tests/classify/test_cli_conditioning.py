@@ -50,7 +50,8 @@ def test_three_prr_grid_eight_modes(tmp_path):
 
 
 def test_three_prr_grid_table1_mode2():
-    """Table 1 of Chablat et al. 2002, working mode 2, K̄: 0.460 (the grid of test_isoconditioning)."""
+    """Table 1 of Chablat et al. 2002, working mode 2: K̄ 0.460, B 0.709, Ā 0.511 (the grid of
+    test_isoconditioning)."""
     step = 2 * math.pi / 60
     status, out, _ = run("conditioning", "3-prr", "--mode", "2", "--grid", "X=-295:295:60", "Y=-295:295:60",
                          f"PHI={-math.pi}:{math.pi - step}:60")
@@ -58,6 +59,9 @@ def test_three_prr_grid_table1_mode2():
     result = json.loads(out)
     assert result["modes"][0]["global_index"] == pytest.approx(0.460, abs=0.005)
     assert result["modes"][0]["matrices"]["B"]["global_index"] == pytest.approx(0.709, abs=0.005)
+    # the Ā column: Ā at the orientation of the best K̄ (test_table1_kappa_A_at_the_orientation_of_best_K)
+    assert result["modes"][0]["matrices"]["A"]["global_index_at_best_orientation"] == pytest.approx(0.511,
+                                                                                                     abs=0.005)
 
 
 def test_five_bar_single_and_figure(tmp_path):
@@ -78,12 +82,83 @@ def test_derived_mechanism_reports_its_normalisation():
     assert result["kappa"]["lambda"] == pytest.approx(result["kappa"]["A-1B"] ** 2, rel=1e-8)
 
 
+def test_general_joint_grid_map():
+    """Any mechanism: a grid of joint coordinates assembled on the working mode's branch, κ(J̄) and λ batched,
+    the singular grid point counted (the five-bar at 1998 eq. 3c's stretched left leg, the grid's centre)."""
+    from classify.isoconditioning import mechanism_map
+    from mechanisms import catalogue, configuration
+
+    status, out, _ = run("conditioning", "five-bar", "--configuration", "eq3c_left_leg_stretched", "--mode", "1",
+                         "--grid", "A=-0.2:0.2:3", "B=-0.2:0.2:3", "--matrix", "lambda")
+    assert status == 0
+    result = json.loads(out)
+    assert result["relation"] == "derived" and result["held"] == ["A", "B"]
+    assert len(result["working_modes"]) == 4 and [entry["mode"] for entry in result["modes"]] == ["1"]
+    entry = result["modes"][0]
+    assert entry["grid_size"] == 9 and entry["unreachable_share"] == 0.0
+    assert entry["classified_singular_share"] == pytest.approx(1 / 9)
+    assert entry["max_kappa"] is None                       # κ = ∞ at the singular centre
+    assert entry["matrices"]["A"]["global_index"] is None   # the derived A, B only with --matrix A|B
+    item = catalogue.entry("five-bar")
+    mechanism = item.assemble(dict(item.configurations["eq3c_left_leg_stretched"]))
+    from classify.cli import _configurations as configurations
+    from classify.cli._grid import parse_grid
+    from classify.cli.map_command import assemble_grid, held_columns
+
+    grid = parse_grid(["A=-0.2:0.2:3", "B=-0.2:0.2:3"], mechanism)
+    start = configuration(mechanism, {}).point
+    requested = np.zeros((grid.size, len(mechanism.coordinate_names)))
+    requested[:, list(grid.columns)] = grid.values().reshape(grid.size, 2)
+    points, reachable = assemble_grid(mechanism, start, configurations.points_of(mechanism, requested), grid.shape,
+                                      held_columns(mechanism, grid))
+    expected = mechanism_map(mechanism, points, reachable, grid.axes(), grid.names)
+    assert entry["global_index"] == pytest.approx(expected.global_index("lambda"), rel=1e-9)
+
+
+def test_hybrid_cartesian_grid_and_surfaces(tmp_path):
+    """The hybrid (1998 §5) over X, Y, Z; the figure draws its isoconditioning surfaces."""
+    from classify.isoconditioning import hybrid_map
+
+    path = tmp_path / "hybrid.png"
+    status, out, _ = run("conditioning", "hybrid", "--mode", "+-", "--grid", "X=-10:10:5", "Y=-4:10:5",
+                         "Z=-10:10:5", "--out", str(path))
+    assert status == 0 and path.stat().st_size > 0
+    result = json.loads(out)
+    assert [entry["mode"] for entry in result["modes"]] == ["+-"]
+    axis = np.linspace(-10.0, 10.0, 5)
+    expected = hybrid_map(axis, np.linspace(-4.0, 10.0, 5), axis, (1, -1))
+    assert result["modes"][0]["global_index"] == pytest.approx(expected.global_index("B-1A"), rel=1e-12)
+
+
+def test_general_cartesian_grid_from_a_file(tmp_path):
+    """A mechanism file (no paper formula): the five-bar of Fig. 2's mode ++ over P = (x, y), its working mode
+    followed by the general engine: the map of 1998 eqs. 3b-c in that mode (five_bar_cartesian_map)."""
+    from classify.isoconditioning import five_bar_cartesian_map
+    from mechanisms import catalogue
+    from mechanisms.io import save
+
+    item = catalogue.entry("five-bar")
+    path = tmp_path / "five_bar.json"
+    save(item.assemble(dict(item.configurations["fig2_working_mode_pp"])), str(path))
+    status, out, _ = run("conditioning", str(path), "--mode", "1", "--grid", "X=-8:14:12", "Y=-12:12:13")
+    assert status == 0
+    result = json.loads(out)
+    assert result["grid_kind"] == "cartesian" and result["held"] is None and len(result["working_modes"]) == 4
+    expected = five_bar_cartesian_map(np.linspace(-8.0, 14.0, 12), np.linspace(-12.0, 12.0, 13), (1, 1))
+    entry = result["modes"][0]
+    assert entry["unreachable_share"] == pytest.approx(1.0 - np.count_nonzero(expected.reachable) / 156)
+    assert entry["global_index"] == pytest.approx(expected.global_index("B-1A"), rel=1e-9)
+
+
 @pytest.mark.parametrize("arguments,message", [
     (("3-prr", "--length", "-1"), "--length"),
     (("3-prr", "--grid", "X=1:2"), "--grid"),
     (("3-prr", "--grid", "X=0:1:2", "Z=0:1:2"), "--grid"),
     (("3-prr", "--grid", "X=0:1:2", "Y=0:1:2", "--mode", "9"), "--mode"),
     (("hybrid", "--grid", "X=0:1:2", "Y=0:1:2"), "--grid"),
+    (("five-bar", "--grid", "A=0:0.1:2", "B=0:0.1:2", "--mode", "9"), "--mode"),
+    (("five-bar", "--grid", "A=0:0.1:2", "--out", "one-axis.png"), "--out"),
+    (("hybrid", "--grid", "X=0:1:2", "Y=0:1:2", "Z=0:1:2", "--length", "3"), "--length"),
     (("slider-crank",), "actuated"),
     (("five-bar", "--out", "x.txt"), "--out"),
 ])
