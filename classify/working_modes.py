@@ -478,7 +478,7 @@ def follow_working_mode(mechanism, start, targets, shape, tolerance=BRANCH_TOLER
     """
     from mechanisms.kinematics import end_effector, end_effector_chart, kinematics_of
 
-    from .cli.map_command import grid_neighbours
+    from .grid_continuation import grid_neighbours
 
     ambient = kinematics_of(mechanism).ambient
     scales = ambient.tangent_scales

@@ -353,7 +353,7 @@ def _general_maps(arguments, mechanism, point, length):
     from ..working_modes import mechanism_working_modes
     from . import _configurations as configurations
     from ._grid import parse_grid
-    from .map_command import assemble_grid, held_columns
+    from ..grid_continuation import assemble_grid, held_columns
 
     cartesian = _cartesian_grid(arguments.grid, mechanism)
     grid = None if cartesian is not None else parse_grid(arguments.grid, mechanism)

@@ -53,21 +53,6 @@ from ._common import InputError, check_length_scale, common_options, entry_optio
 
 __all__ = ["add_parser", "run", "PICTURE"]
 
-#: the names of the grid continuation, which lives in the core (:mod:`classify.grid_continuation`), importable
-#: from here too (imported when asked for: the command line's start-up imports no NumPy)
-_CONTINUATION = {"held_columns": "held_columns", "held_entries": "held_entries", "_held_entries": "held_entries",
-                 "assemble_grid": "assemble_grid", "grid_neighbours": "grid_neighbours", "_correct": "_correct",
-                 "_continue": "_continue", "_seed": "_seed"}
-
-
-def __getattr__(name):
-    if name in _CONTINUATION:
-        from .. import grid_continuation
-
-        return getattr(grid_continuation, _CONTINUATION[name])
-    raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-
-
 #: the text picture's character per grid point: kinds (several: "+"), regular, unreachable
 PICTURE = {"regular": ".", "actuator": "A", "end_effector": "E", "cspace": "C", "several": "+", "unreachable": "x"}
 

@@ -103,7 +103,7 @@ def test_general_joint_grid_map():
     mechanism = item.assemble(dict(item.configurations["eq3c_left_leg_stretched"]))
     from classify.cli import _configurations as configurations
     from classify.cli._grid import parse_grid
-    from classify.cli.map_command import assemble_grid, held_columns
+    from classify.grid_continuation import assemble_grid, held_columns
 
     grid = parse_grid(["A=-0.2:0.2:3", "B=-0.2:0.2:3"], mechanism)
     start = configuration(mechanism, {}).point

@@ -25,7 +25,7 @@ def _assembled_grid(mechanism, start, names, starts, stops, counts):
     """The grid of ``closedchain map`` (continuation on the start's branch), as the command assembles it."""
     from classify.cli import _configurations as configurations
     from classify.cli._grid import Grid
-    from classify.cli.map_command import assemble_grid, held_columns
+    from classify.grid_continuation import assemble_grid, held_columns
 
     columns = tuple(mechanism.coordinate_names.index(name) for name in names)
     grid = Grid(tuple(names), columns, tuple(starts), tuple(stops), tuple(counts))
