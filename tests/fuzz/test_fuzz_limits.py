@@ -1,4 +1,4 @@
-"""The dangerous inputs of the fuzz, each in a subprocess with 1 GB of address space and 10 s.
+"""The dangerous inputs of the fuzz, each in a subprocess with 1 GB of address space and 10 s of CPU.
 
 YAML bombs (aliases, merge keys), special files (``/dev/zero``, a FIFO) as
 the mechanism file, the ``--at`` file or the ``--write`` target, files over
@@ -7,9 +7,14 @@ for the dense algorithms, and a sample count that would allocate tens of
 GiB: each must be refused (exit 2, one line on stderr) quickly, without
 hanging or exhausting the memory. Cases skip where the platform lacks what
 they need (``resource``, ``os.mkfifo``, ``/dev/zero``).
+
+"Quickly" is CPU time (``RLIMIT_CPU``: the work done, whatever else the
+machine runs); a wall-clock limit several times longer catches what waits
+without working (a FIFO nobody writes).
 """
 
 import os
+import signal
 import subprocess
 import sys
 
@@ -21,11 +26,15 @@ resource = pytest.importorskip("resource")
 
 #: address space of the subprocess: enough for Python, NumPy and SciPy, far from what a blow-up takes
 ADDRESS_SPACE = 2 ** 30
+#: CPU seconds of the subprocess (past them the kernel stops it: the case fails)
 TIME_LIMIT = 10
+#: wall-clock seconds: a process that waits instead of working
+WALL_LIMIT = 6 * TIME_LIMIT
 
 
 def _limit_memory():
     resource.setrlimit(resource.RLIMIT_AS, (ADDRESS_SPACE, ADDRESS_SPACE))
+    resource.setrlimit(resource.RLIMIT_CPU, (TIME_LIMIT, TIME_LIMIT))
 
 
 def _needs(condition, reason):
@@ -76,10 +85,11 @@ def test_dangerous_input_is_refused_within_limits(case, tmp_path):
     environment.pop("CLOSEDCHAIN_DEBUG", None)
     try:
         completed = subprocess.run([sys.executable, "-m", "classify", *arguments], capture_output=True, text=True,
-                                   timeout=TIME_LIMIT, preexec_fn=_limit_memory, cwd=tmp_path, env=environment,
+                                   timeout=WALL_LIMIT, preexec_fn=_limit_memory, cwd=tmp_path, env=environment,
                                    stdin=subprocess.DEVNULL)
     except subprocess.TimeoutExpired:
-        pytest.fail(f"{case}: still running after {TIME_LIMIT} s")
+        pytest.fail(f"{case}: still running after {WALL_LIMIT} s")
+    assert completed.returncode != -signal.SIGXCPU, f"{case}: more than {TIME_LIMIT} s of CPU"
     assert completed.returncode == 2, completed.stderr[-2000:]
     assert completed.stdout == ""
     assert completed.stderr.startswith("closedchain: error:") and completed.stderr.count("\n") == 1, \
