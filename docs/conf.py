@@ -11,6 +11,8 @@ import sys
 # The three packages (manifold, mechanisms, classify) live at the repository root.
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), ".."))
 sys.path.insert(0, ROOT)
+# the gallery's image scraper (docs/gallery/gallery_scraper.py)
+sys.path.insert(0, os.path.join(ROOT, "docs", "gallery"))
 
 project = "closedchain"
 author = "the closedchain authors"
@@ -23,6 +25,7 @@ extensions = [
     "sphinx.ext.napoleon",
     "sphinx.ext.mathjax",
     "sphinx.ext.doctest",
+    "sphinx_gallery.gen_gallery",
 ]
 
 # numpy-style docstrings only
@@ -61,6 +64,34 @@ pygments_style = "sphinx"
 
 html_theme = "alabaster"
 html_title = "closedchain"
+
+
+# The gallery of the papers' figures (docs/gallery, one folder per paper): sphinx-gallery runs each
+# ``plot_*.py`` once and writes docs/gallery_output (not versioned); a later build (the doctest one of
+# ``make docs``) finds the scripts unchanged and their outputs present, and does not run them again.
+sphinx_gallery_conf = {
+    "examples_dirs": "gallery",
+    "gallery_dirs": "gallery_output",
+    "filename_pattern": r"plot_",
+    "ignore_pattern": r"__init__\.py|gallery_scraper\.py",
+    # the package draws on Figure objects, not through pyplot: save those the example's variables hold
+    "image_scrapers": ("gallery_scraper.namespace_figures",),
+    # the papers in the order of the references page; within one, by figure (the files are plot_figNN_...)
+    "subsection_order": ["gallery/park_kim_1999", "gallery/gosselin_angeles_1990",
+                         "gallery/chablat_wenger_angeles_1998", "gallery/chablat_caro_wenger_angeles_2002",
+                         "gallery/borras_thomas_torras_2011"],
+    "within_subsection_order": "FileNameSortKey",
+    "download_all_examples": False,
+    "abort_on_example_error": True,
+    "only_warn_on_example_error": False,
+    "remove_config_comments": True,
+    "show_memory": False,
+    "min_reported_time": 1,
+    # no sg_execution_times.rst pages in the source tree (each example still shows its running time)
+    "write_computation_times": False,
+    "capture_repr": (),
+    "first_notebook_cell": None,
+}
 
 
 def _write_catalogue_table(app):
