@@ -1,4 +1,4 @@
-"""The pictures of the HTML report: each configuration drawn, and the loci of each design of one or two dof.
+"""The pictures of the HTML report: each configuration drawn, and the loci of each design of one to three dof.
 
 For every classified configuration, :func:`configuration_picture` draws the
 mechanism there (:func:`classify.figures.drawing.draw_mechanism`) with the
@@ -7,7 +7,9 @@ degrees of freedom, :func:`loci_picture` traces its singularity loci from a
 configuration (:func:`classify.loci.trace_loci`, every traced point confirmed
 by the classification) and draws its C-space map with the loci overlaid
 (:func:`classify.figures.loci.draw_cspace_map`), in the actuated coordinates.
-Three or more dof: no loci (surfaces are not traced yet).
+Three dof: the loci in sections of the first actuated coordinate, one panel
+per section (:func:`classify.figures.loci.draw_sections`), on a coarser grid
+(:data:`SECTIONS_GRID`). More dof: no loci.
 """
 
 from __future__ import annotations
@@ -16,11 +18,14 @@ import numpy as np
 
 from .html_report import Picture, figure_png
 
-__all__ = ["configuration_picture", "loci_picture", "LOCI_GRID"]
+__all__ = ["configuration_picture", "loci_picture", "LOCI_GRID", "SECTIONS_GRID"]
 
 #: grid points per axis of a report's 2-dof loci (coarse: the report draws every design; ``closedchain loci``
 #: takes ``--grid`` for finer)
 LOCI_GRID = (20, 20)
+#: a report's 3-dof loci: grid points per axis of each section, and the number of sections (``closedchain loci``
+#: takes ``--grid`` and ``--section``)
+SECTIONS_GRID = (12, 12, 3)
 
 
 def configuration_picture(mechanism, point, report, caption):
@@ -46,7 +51,7 @@ def configuration_picture(mechanism, point, report, caption):
 
 
 def loci_picture(mechanism, start, survey, caption, seed=0):
-    """The C-space map of a 1- or 2-dof mechanism with its singularity loci, or None for another dof.
+    """The C-space map of a 1- or 2-dof mechanism with its singularity loci (3 dof: in sections), or None.
 
     Parameters
     ----------
@@ -64,15 +69,17 @@ def loci_picture(mechanism, start, survey, caption, seed=0):
     -------
     Picture or None
     """
-    from .figures.loci import draw_cspace_map
+    from .figures.loci import draw_cspace_map, draw_sections
     from .loci import default_columns, trace_loci
 
     dof = mechanism.ambient_dimension - survey.constraint_rank
-    if dof not in (1, 2):
+    if dof not in (1, 2, 3):
         return None
     columns = default_columns(mechanism, dof)
-    loci = trace_loci(mechanism, start, columns=columns if dof == 2 else None, counts=LOCI_GRID,
-                      rng=np.random.default_rng(seed), survey=survey)
-    figure = draw_cspace_map(mechanism, loci, columns, title=f"{mechanism.name}: singularity loci")
+    loci = trace_loci(mechanism, start, columns=columns if dof > 1 else None,
+                      counts=SECTIONS_GRID if dof == 3 else LOCI_GRID, rng=np.random.default_rng(seed), survey=survey)
+    title = f"{mechanism.name}: singularity loci"
+    figure = (draw_sections(mechanism, loci, columns[:2], title=title) if dof == 3
+              else draw_cspace_map(mechanism, loci, columns, title=title))
     found = ", ".join(f"{kind.replace('_', '-')}: {count} piece(s)" for kind, count in loci.coverage["pieces"].items())
     return Picture(f"{caption} ({found})", figure_png(figure))

@@ -173,7 +173,7 @@ def add_parser(commands):
                         help="write the report to this file and print only a summary")
     parser.add_argument("--html", default=None, metavar="FILE",
                         help="also write the report as one self-contained HTML page, with each configuration drawn "
-                             "and the singularity loci of each design of one or two dof")
+                             "and the singularity loci of each design of one to three dof")
     parser.add_argument("--jobs", type=int, default=None, metavar="N",
                         help="processes to run in parallel (default: the available cores; 1: none)")
     parser.add_argument("--format", choices=("json", "text"), default="text")
@@ -538,7 +538,7 @@ def _map_tasks(work, tasks, jobs, description):
 def _task_pictures(task, reports, seed=0):
     """The pictures of one task (run in a worker process): ``(source, name) → [Picture]`` for each configuration
     drawn (`reports`: ``(source, name) → Report``), and ``(source, None) → [Picture]`` for the loci of the task's
-    design when it has one or two dof."""
+    design when it has one to three dof."""
     from ..model import model_of
     from ..report_pictures import configuration_picture, loci_picture
     from ..survey import survey_of

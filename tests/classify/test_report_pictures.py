@@ -23,13 +23,22 @@ def test_a_configuration_picture_is_a_png_with_its_caption():
     assert picture.caption == "slider-crank: fig3b_actuator"
 
 
-def test_loci_are_drawn_for_one_dof_and_not_for_three():
+def test_loci_are_drawn_for_one_dof_and_not_for_six():
     crank = catalogue_mechanism("slider-crank")
     picture = loci_picture(crank, home(crank), survey_of(model_of(crank)), "slider-crank")
     assert picture.png.startswith(PNG_SIGNATURE)
     assert re.search(r"\d+ piece\(s\)", picture.caption)
-    platform = catalogue_mechanism("planar-3rrr")
-    assert loci_picture(platform, home(platform), survey_of(model_of(platform)), "planar-3rrr") is None
+    platform = catalogue_mechanism("gough-stewart")
+    assert loci_picture(platform, home(platform), survey_of(model_of(platform)), "gough-stewart") is None
+
+
+def test_three_dof_loci_are_drawn_in_sections():
+    """The hybrid of Chablat, Wenger & Angeles 1998 (3 dof): its loci traced in sections, both kinds found."""
+    hybrid = catalogue_mechanism("hybrid")
+    picture = loci_picture(hybrid, home(hybrid), survey_of(model_of(hybrid)), "hybrid")
+    assert picture.png.startswith(PNG_SIGNATURE)
+    assert re.search(r"actuator: [1-9]\d* piece\(s\)", picture.caption)
+    assert re.search(r"end-effector: [1-9]\d* piece\(s\)", picture.caption)
 
 
 def test_the_report_command_writes_a_page_with_each_configuration_drawn(tmp_path, capsys):
