@@ -82,6 +82,22 @@ def test_derived_mechanism_reports_its_normalisation():
     assert result["kappa"]["lambda"] == pytest.approx(result["kappa"]["A-1B"] ** 2, rel=1e-8)
 
 
+def test_length_auto_on_a_derived_mechanism_finds_an_isotropic_posture_that_holds():
+    """``--length auto`` on a mechanism with no closed form (the planar 3-RRR): κ(J̄) minimised over L and the
+    posture (Chablat, Caro, Wenger & Angeles 2002 §3.2–3.4). The posture it reports, fed back with ``--at`` and
+    the L found, gives that κ again; here it is isotropic (κ = 1)."""
+    status, out, _ = run("conditioning", "planar-3rrr", "--length", "auto")
+    assert status == 0
+    found = json.loads(out)["characteristic_length"]
+    assert found["method"] == "optimised" and found["value"] > 0
+    isotropic = json.loads(out)["isotropic"]
+    assert found["kappa"] == pytest.approx(1.0, abs=1e-6) and isotropic
+    status, again, _ = run("conditioning", "planar-3rrr", "--at", json.dumps(isotropic[0]["displacements"]),
+                           "--length", repr(found["value"]))
+    assert status == 0
+    assert json.loads(again)["kappa"]["B-1A"] == pytest.approx(found["kappa"], abs=1e-6)
+
+
 def test_general_joint_grid_map():
     """Any mechanism: a grid of joint coordinates assembled on the working mode's branch, κ(J̄) and λ batched,
     the singular grid point counted (the five-bar at 1998 eq. 3c's stretched left leg, the grid's centre)."""
