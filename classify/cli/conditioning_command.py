@@ -29,11 +29,11 @@ postures found (κ = 1); not needed (null) without an orientation output.
 Any mechanism with n inputs = n outputs = n dof (and a catalogue entry with
 axes other than its paper's X, Y[, PHI | Z]) maps per working mode (its
 inverse-kinematics branches at the configuration's pose,
-:func:`classify.working_modes.mechanism_working_modes`; ``--mode N|all``) over
+:func:`classify.inverse_kinematics_branches.mechanism_working_modes`; ``--mode N|all``) over
 a Cartesian grid ``--grid X=a:b:n Y=a:b:n [Z=a:b:n | PHI=a:b:n]`` (a position
 output, or a planar pose; ``grid_kind`` "cartesian": the mode followed over the
 grid up to its serial singularities,
-:func:`classify.working_modes.follow_working_mode`) or over a grid of joint
+:func:`classify.inverse_kinematics_branches.follow_working_mode`) or over a grid of joint
 coordinates ``--grid NAME=a:b:n ...`` as ``closedchain map`` (``grid_kind``
 "joint": assembled by continuation from the mode's configuration, on its
 branch; ``held`` names the coordinates held); 1/κ(J̄) and Park & Kim's
@@ -350,7 +350,7 @@ def _general_maps(arguments, mechanism, point, length):
     from mechanisms import to_displacements
 
     from ..isoconditioning import mechanism_map
-    from ..working_modes import mechanism_working_modes
+    from ..inverse_kinematics_branches import mechanism_working_modes
     from . import _configurations as configurations
     from ._grid import parse_grid
     from ..grid_continuation import assemble_grid, held_columns
@@ -366,7 +366,7 @@ def _general_maps(arguments, mechanism, point, length):
                              f"(a general mechanism's map assembles and classifies every point)")
         chosen = _modes(arguments.mode, [mode.label for mode in modes])
         if cartesian is not None:
-            from ..working_modes import follow_working_mode, output_targets
+            from ..inverse_kinematics_branches import follow_working_mode, output_targets
 
             names, axes, values = cartesian
             targets = output_targets(mechanism, _output_values(mechanism, point, names, axes))

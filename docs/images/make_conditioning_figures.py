@@ -68,7 +68,7 @@ def _five_bar_general_figure():
     """The general engine's Cartesian maps of the five-bar, one per working mode it finds and follows."""
     from classify.figures.conditioning import isoconditioning_figure
     from classify.isoconditioning import mechanism_map
-    from classify.working_modes import follow_working_mode, mechanism_working_modes, output_targets
+    from classify.inverse_kinematics_branches import follow_working_mode, mechanism_working_modes, output_targets
     from mechanisms import catalogue, configuration
 
     item = catalogue.entry("five-bar")

@@ -10,7 +10,8 @@ from classify.characteristic_length import mechanism_optimal_length, three_prr_k
 from classify.conditioning import mechanism_condition_numbers
 from classify.conditioning_matrices import three_prr_pose_of
 from classify.isoconditioning import hybrid_map, hybrid_plane_map, mechanism_map
-from classify.working_modes import five_bar_working_modes, mechanism_working_modes, three_prr_working_modes
+from classify.inverse_kinematics_branches import mechanism_working_modes
+from classify.working_modes import five_bar_working_modes, three_prr_working_modes
 from mechanisms import catalogue, configuration, end_effector, to_displacements
 
 
@@ -198,7 +199,7 @@ def test_general_figure_marks_singular_points(stretched_map):
 def five_bar_cartesian_maps():
     """The catalogue's five-bar mapped by the general engine over P = (x, y), one map per working mode found
     (its inverse-kinematics branches, each followed over the grid without crossing a serial singularity)."""
-    from classify.working_modes import follow_working_mode, output_targets
+    from classify.inverse_kinematics_branches import follow_working_mode, output_targets
 
     mechanism, point = _entry_mechanism("five-bar", "fig2_working_mode_pp")
     xs, ys = np.linspace(-8.0, 14.0, 12), np.linspace(-12.0, 12.0, 13)

@@ -1,0 +1,392 @@
+"""Working modes of any mechanism: the inverse-kinematics branches of a pose, and a map's grid followed in one.
+
+Where B is not diagonal a working mode is not a sign pattern of its diagonal
+(:mod:`classify.working_modes`): it is one of the configurations with the same
+end-effector value, found by Gauss–Newton on ``Φ = 0, f = f₀`` from many
+starts (:func:`inverse_kinematics_branches`, :func:`mechanism_working_modes`),
+and a map over a Cartesian grid stays in it by continuation that refuses to
+cross a serial singularity (:func:`follow_working_mode`). Chablat & Wenger's
+working modes, as used by Chablat, Caro, Wenger & Angeles 2002 §3.5 and
+Chablat, Wenger & Angeles 1998 §3.3.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from .working_modes import WorkingMode
+
+__all__ = ["inverse_kinematics_branches", "mechanism_working_modes", "output_targets", "follow_working_mode",
+           "BRANCH_TOLERANCE", "BRANCH_SEPARATION", "STEP_JUMP"]
+
+#: ‖Φ‖ and end-effector residual (relative to the characteristic length) of an inverse-kinematics solution
+BRANCH_TOLERANCE = 1e-10
+#: two solutions closer than this (dimensionless tangent distance) are one working mode
+BRANCH_SEPARATION = 1e-6
+#: largest dimensionless joint move of one continuation step between neighbouring grid points (a larger one
+#: is taken for a jump to another branch; the sign of det(Df T) is the finer guard, so this only has to stop
+#: the wild ones: 1.5 lets a 12 × 13 grid over the five-bar's workspace cover each mode, 0.5 does not)
+STEP_JUMP = 1.5
+
+
+def inverse_kinematics_branches(mechanism, point, rng=None, count=64, rounds=10, tolerance=BRANCH_TOLERANCE,
+                                iterations=40, max_step=0.5):
+    """Every configuration found with the end-effector where it is at `point`: the inverse-kinematics branches.
+
+    Gauss–Newton on the square system ``Φ(q) = 0``, ``f(q) = f(point)`` (n outputs = n dof: k equations
+    in k unknowns where M is regular), in the dimensionless tangent coordinates,
+    ``q ← q ⊕ s·([DΦ; Df]·s)⁺ [−Φ; r(q)]`` (steps of at most `max_step`). r is the output residual to
+    first order in the chart of :func:`mechanisms.end_effector_jacobian` (position: f₀ − f; orientation and
+    pose: the body twist ``vee(F⁻¹F₀ − 1)``, whose zeros include the exact ones; a solution is kept only if
+    the exact chart, :func:`mechanisms.kinematics.end_effector_chart`, confirms it, and
+    :func:`mechanisms.closes` its loops: Φ's rotation rows also vanish at a loop turned by a half-turn).
+    Starts: `point`, then in each of at most `rounds` rounds `count` starts ``q ⊕ s·ε`` around the solutions
+    known (ε ~ N(0, 1) per dimensionless coordinate: about a radian) and `count` combinations
+    ``q_a ⊕ (q_b ⊖ point)`` of two known ones (a parallel mechanism's legs flip independently), until two
+    rounds find no new one.
+    Solutions whose coordinates (revolute angles modulo 2π, divided by the tangent scales) differ by less
+    than :data:`BRANCH_SEPARATION` are one. A search, not a proof: a branch no start falls into is missed.
+
+    Parameters
+    ----------
+    mechanism : Mechanism
+        With an end-effector.
+    point : array_like, shape=[point_size]
+        On M.
+    rng : numpy.random.Generator, optional
+        Draws the starts (default seeded 0).
+    count, rounds : int
+    tolerance : float
+        Largest ‖Φ‖ and output residual (relative to the characteristic length) of a solution.
+    iterations : int
+    max_step : float
+
+    Returns
+    -------
+    ndarray, shape=[b, point_size]
+        The branches by dimensionless distance from `point` (`point`'s own first).
+    """
+    from mechanisms.kinematics import end_effector, kinematics_of
+
+    rng = np.random.default_rng(0) if rng is None else rng
+    ambient = kinematics_of(mechanism).ambient
+    scales = ambient.tangent_scales
+    point = np.asarray(point, dtype=float)
+    target = end_effector(mechanism, point[None])[0]
+    revolute = _revolute_columns(mechanism)
+
+    def solve(current):
+        return _solved(mechanism, _output_newton(mechanism, current, target, iterations, max_step), target,
+                       tolerance)
+
+    found, coordinates = [], []
+
+    def keep(candidates):
+        new = 0
+        for candidate in candidates:
+            values = _coordinate_values(mechanism, candidate)
+            if all(np.linalg.norm(_wrapped(values - known, revolute) / scales) > BRANCH_SEPARATION
+                   for known in coordinates):
+                found.append(candidate)
+                coordinates.append(values)
+                new += 1
+        return new
+
+    keep(solve(point[None]))
+    idle = 0
+    for _ in range(rounds):
+        origins = np.array(found) if found else point[None]
+        chosen = origins[rng.integers(len(origins), size=count)]
+        starts = [ambient.retract(chosen, scales * rng.standard_normal((count, ambient.dim)))]
+        if len(origins) > 1:  # one branch's change from `point` applied to another (legs flipped independently)
+            first, second = rng.integers(len(origins), size=(2, count))
+            starts.append(ambient.retract(origins[first], ambient.inverse_retract(
+                np.broadcast_to(point, (count, point.size)), origins[second])))
+        idle = 0 if keep(solve(np.concatenate(starts))) else idle + 1
+        if idle == 2:
+            break
+    if not found:
+        return np.zeros((0, point.size))
+    origin = _coordinate_values(mechanism, point)
+    distance = [np.linalg.norm(_wrapped(values - origin, revolute) / scales) for values in coordinates]
+    order = np.argsort(distance, kind="stable")
+    return np.array([_with_wrapped_angles(mechanism, found[index], revolute) for index in order])
+
+
+def _with_wrapped_angles(mechanism, point, revolute):
+    """The configuration with its revolute angles in [−π, π) (the same configuration: grid continuation and
+    ``--grid`` bounds compare angles without wrapping)."""
+    from mechanisms import from_displacements, to_displacements
+
+    values = _wrapped(_coordinate_values(mechanism, point), revolute)
+    displacements, start = {}, 0
+    for joint, value in to_displacements(mechanism, point).items():
+        width = len(np.atleast_1d(value))
+        displacements[joint] = (values[start:start + width].tolist() if isinstance(value, list)
+                                else float(values[start]))
+        start += width
+    return from_displacements(mechanism, displacements)
+
+
+def _oriented_output_signs(mechanism, points, reference_bases):
+    """Tangent bases T oriented as `reference_bases` (det(Tᵣᵀ S⁻² T) > 0, S the tangent scales; as computed
+    where None) and the signs of det(Df T), the working mode's invariant along a path of regular points.
+
+    Returns
+    -------
+    bases : ndarray, shape=[b, k, m]
+    signs : ndarray, shape=[b]
+        ±1; 0 where ``|det(Df T)|`` is at most 1e-12 times the product of the rows' norms (a serial
+        singularity).
+    """
+    from mechanisms.kinematics import end_effector_jacobian, kinematics_of
+
+    from .conditioning import tangent_bases
+
+    bases = tangent_bases(mechanism, points)
+    if reference_bases is not None:
+        weights = 1.0 / kinematics_of(mechanism).ambient.tangent_scales ** 2
+        overlap = np.linalg.det(np.einsum("bkm,k,bkn->bmn", reference_bases, weights, bases))
+        bases[:, :, 0] *= np.where(overlap < 0, -1.0, 1.0)[:, None]
+    blocks = end_effector_jacobian(mechanism, points) @ bases
+    if blocks.shape[-1] != blocks.shape[-2]:
+        raise ValueError(f"{mechanism.name}: {blocks.shape[-2]} outputs and {blocks.shape[-1]} degrees of freedom; "
+                         f"a working mode needs as many of each")
+    determinants = np.linalg.det(blocks)
+    size = np.prod(np.linalg.norm(blocks, axis=-1), axis=-1)
+    return bases, np.where(np.abs(determinants) <= 1e-12 * size, 0.0, np.sign(determinants))
+
+
+def _output_newton(mechanism, current, target, iterations, max_step):
+    """Gauss–Newton on ``Φ = 0, f = target`` from a stack of configurations (target one value or one per row)."""
+    from mechanisms.kinematics import constraint, constraint_jacobian, end_effector, end_effector_jacobian, \
+        kinematics_of
+
+    compiled = kinematics_of(mechanism)
+    ambient, scales = compiled.ambient, compiled.ambient.tangent_scales
+    current = np.array(current, dtype=float)
+    with np.errstate(invalid="ignore", over="ignore"):
+        for _ in range(iterations):
+            residual = np.concatenate([-constraint(mechanism, current), _output_residual(
+                compiled.output, end_effector(mechanism, current), target)], axis=-1)
+            jacobian = np.concatenate([constraint_jacobian(mechanism, current),
+                                       end_effector_jacobian(mechanism, current)], axis=-2) * scales
+            finite = np.all(np.isfinite(jacobian), axis=(-2, -1)) & np.all(np.isfinite(residual), axis=-1)
+            step = np.zeros(current.shape[:1] + (ambient.dim,))
+            step[finite] = np.einsum("bkr,br->bk", np.linalg.pinv(jacobian[finite], rcond=1e-12), residual[finite])
+            size = np.linalg.norm(step, axis=-1)
+            step *= np.minimum(1.0, max_step / np.maximum(size, 1e-300))[:, None]
+            current = ambient.retract(current, scales * step)
+    return current
+
+
+def _converged(mechanism, current, target, tolerance):
+    """Which rows close their loops (no half-turn) and reach `target` exactly (the exact chart), shape=[b]."""
+    from mechanisms.kinematics import closes, constraint, end_effector, end_effector_chart
+
+    with np.errstate(invalid="ignore", over="ignore"):
+        closure = np.linalg.norm(constraint(mechanism, current), axis=-1)
+    good = np.isfinite(closure) & (closure <= tolerance)
+    if np.any(good):
+        good[good] = np.asarray(closes(mechanism, current[good], tolerance), dtype=bool)
+    if np.any(good):
+        targets = target if np.ndim(target) == np.ndim(end_effector(mechanism, current[:1])) - 1 else target[good]
+        values = end_effector(mechanism, current[good])
+        reference = np.broadcast_to(targets, values.shape)
+        outputs = np.linalg.norm(end_effector_chart(mechanism, values, reference), axis=-1)
+        good[good] = outputs / max(float(mechanism.characteristic_length), 1e-300) <= tolerance
+    return good
+
+
+def _solved(mechanism, current, target, tolerance):
+    return current[_converged(mechanism, current, target, tolerance)]
+
+
+def _output_residual(output, values, target):
+    """f₀ − f to first order in the chart of :func:`mechanisms.end_effector_jacobian`, shape=[b, n]; `target`
+    one value or one per row."""
+    if output == "position":
+        return target - values
+    size = values.shape[-1]
+    relative = np.linalg.solve(values, np.broadcast_to(target, values.shape))   # F⁻¹ F₀
+    rotation = relative[..., :size - 1, :size - 1]
+    skew = (rotation - np.swapaxes(rotation, -1, -2)) / 2
+    if size == 3:   # planar: ω, then the translation
+        angular = skew[..., 1, 0][..., None]
+    else:
+        angular = np.stack([skew[..., 2, 1], skew[..., 0, 2], skew[..., 1, 0]], axis=-1)
+    if output == "orientation":
+        return angular
+    return np.concatenate([angular, relative[..., :size - 1, size - 1]], axis=-1)
+
+
+def _revolute_columns(mechanism):
+    """Whether each coordinate is a revolute (R, U) angle, compared modulo 2π, shape=[k]."""
+    widths = {"R": 1, "P": 1, "U": 2, "C": 2, "S": 3}
+    return np.concatenate([np.full(widths[joint.type], joint.type in ("R", "U")) for joint in mechanism.joints])
+
+
+def _wrapped(differences, revolute):
+    """Differences of coordinates with the revolute ones wrapped to [−π, π)."""
+    return np.where(revolute, (differences + np.pi) % (2 * np.pi) - np.pi, differences)
+
+
+def mechanism_working_modes(mechanism, point, rng=None, count=64, rounds=10):
+    """The working modes of a general mechanism at the pose of `point`: its inverse-kinematics branches.
+
+    Where B is not diagonal the modes are not sign patterns (:func:`sign_pattern` refuses); they are the
+    configurations with the same end-effector value (:func:`inverse_kinematics_branches`), numbered from 1
+    by distance from `point` (mode 1 is `point`'s own). Each mode's configuration starts a map on its branch.
+
+    Returns
+    -------
+    list of WorkingMode
+        ``angles`` = the actuated coordinates (displacements from home), ``point`` the configuration,
+        ``margin`` = 1/κ of the actuator block E^½ Dπ T there (0: an actuator singularity); ``signs`` and
+        ``diagonal`` empty.
+    """
+    from .conditioning import inverse_condition, mechanism_jacobians
+
+    branches = inverse_kinematics_branches(mechanism, point, rng, count, rounds)
+    if not len(branches):
+        return []
+    revolute = _revolute_columns(mechanism)
+    actuated = [_wrapped(_coordinate_values(mechanism, branch), revolute)[list(mechanism.actuated_coordinates)]
+                for branch in branches]
+    margins = inverse_condition(mechanism_jacobians(mechanism, branches)[1])
+    return [WorkingMode(str(index + 1), (), True, (), tuple(float(value) for value in actuated[index]),
+                        branches[index], float(margins[index])) for index in range(len(branches))]
+
+
+def _coordinate_values(mechanism, point):
+    """The displacements from home of a configuration, one per coordinate (``mechanism.coordinate_names``)."""
+    from mechanisms import to_displacements
+
+    displacements = to_displacements(mechanism, point)
+    return np.concatenate([np.atleast_1d(np.asarray(displacements[joint.name], dtype=float))
+                           for joint in mechanism.joints])
+
+
+# ------------------------------------------------------------------------------------------------ Cartesian grids
+
+def output_targets(mechanism, values):
+    """End-effector values from output coordinates: a position (x, y[, z]) as it is; a planar pose
+    (x, y, φ), φ the rotation of the end-effector's link from its home orientation, as its frame.
+
+    Parameters
+    ----------
+    values : array_like, shape=[g, d]
+
+    Returns
+    -------
+    ndarray, shape=[g, d] or [g, 3, 3]
+
+    Raises
+    ------
+    ValueError
+        For another output (a spatial pose or an orientation): its grid is not (x, y, z) or (x, y, φ).
+    """
+    from mechanisms.kinematics import end_effector_dimension, kinematics_of
+
+    compiled = kinematics_of(mechanism)
+    values = np.asarray(values, dtype=float)
+    dimension = end_effector_dimension(mechanism)
+    if compiled.output == "position" and values.shape[-1] == dimension:
+        return values
+    if compiled.output == "pose" and compiled.space == "planar" and values.shape[-1] == 3:
+        cosine, sine = np.cos(values[:, 2]), np.sin(values[:, 2])
+        frames = np.zeros((len(values), 3, 3))
+        frames[:, 0, 0], frames[:, 0, 1], frames[:, 1, 0], frames[:, 1, 1] = cosine, -sine, sine, cosine
+        frames[:, :2, 2], frames[:, 2, 2] = values[:, :2], 1.0
+        return frames
+    raise ValueError(f"{mechanism.name}: a Cartesian grid needs a position output (x, y[, z]) or a planar pose "
+                     f"(x, y, φ); this end-effector's output is a {compiled.space} {compiled.output}")
+
+
+def follow_working_mode(mechanism, start, targets, shape, tolerance=BRANCH_TOLERANCE, iterations=30,
+                        max_step=0.25, jump=STEP_JUMP):
+    """The configurations reaching a grid of end-effector values in the working mode of `start`, by continuation.
+
+    The grid point whose value is nearest f(start) is solved from `start` (Gauss–Newton on ``Φ = 0, f = f_g``,
+    as :func:`inverse_kinematics_branches`); every other point from an already solved neighbour (one step
+    along one axis), all the points of a front at once. A step is refused when it does not converge, moves
+    the joints more than `jump` (dimensionless: a jump to another branch), or changes the sign of
+    det(Df T) with T a tangent basis carried along the path (oriented as its neighbour's): the step crossed
+    a serial singularity, where the working mode's branch meets another. So a working mode's region ends
+    there (the papers' working modes, 2002 §3.5, 1998 §3.3); points beyond, or unreachable, stay NaN.
+
+    Parameters
+    ----------
+    mechanism : Mechanism
+    start : array_like, shape=[point_size]
+        On M, in the working mode to follow.
+    targets : array_like, shape=[g, ...]
+        End-effector values (:func:`output_targets`) in C order.
+    shape : tuple of int
+        The grid's shape (g its product).
+
+    Returns
+    -------
+    points : ndarray, shape=[g, point_size]
+        NaN rows where not reached.
+    reached : ndarray of bool, shape=[g]
+    """
+    from mechanisms.kinematics import end_effector, end_effector_chart, kinematics_of
+
+    from .grid_continuation import grid_neighbours
+
+    ambient = kinematics_of(mechanism).ambient
+    scales = ambient.tangent_scales
+    start = np.asarray(start, dtype=float)
+    targets = np.asarray(targets, dtype=float)
+    count = len(targets)
+    neighbours = grid_neighbours(tuple(shape))
+    points = np.full((count, start.size), np.nan)
+    reached = np.zeros(count, dtype=bool)
+    tried = np.zeros(neighbours.shape, dtype=bool)
+    value = end_effector(mechanism, start[None])
+    distance = np.linalg.norm(end_effector_chart(mechanism, np.broadcast_to(value, targets.shape), targets), axis=-1)
+
+    signs = np.zeros(count)
+
+    def step(origins, origin_bases, origin_signs, indices):
+        solved = _output_newton(mechanism, origins, targets[indices], iterations, max_step)
+        good = _converged(mechanism, solved, targets[indices], tolerance)
+        move = np.linalg.norm(ambient.inverse_retract(origins, solved) / scales, axis=-1)
+        good &= move <= jump
+        new_bases = np.full(origin_bases.shape, np.nan)
+        new_signs = np.zeros(len(indices))
+        if np.any(good):
+            new_bases[good], new_signs[good] = _oriented_output_signs(mechanism, solved[good], origin_bases[good])
+            good &= new_signs == origin_signs   # det(Df T) changed sign: a serial singularity was crossed
+        return solved, good, new_bases, new_signs
+
+    start_basis, start_sign = _oriented_output_signs(mechanism, start[None], None)
+    bases = np.full((count,) + start_basis.shape[1:], np.nan)
+    for first in np.argsort(distance, kind="stable")[:8]:   # the nearest grid points, until one is solved
+        solved, good, new_bases, new_signs = step(start[None], start_basis, start_sign, np.array([first]))
+        if good[0]:
+            points[first], reached[first] = solved[0], True
+            bases[first], signs[first] = new_bases[0], new_signs[0]
+            break
+    candidates = neighbours[reached].reshape(-1)
+    candidates = np.unique(candidates[candidates >= 0])
+    while candidates.size:
+        candidates = candidates[~reached[candidates]]
+        around = neighbours[candidates]
+        usable = (around >= 0) & reached[np.maximum(around, 0)] & ~tried[candidates]
+        keep = usable.any(axis=1)
+        candidates, around, usable = candidates[keep], around[keep], usable[keep]
+        if not candidates.size:
+            break
+        direction = np.argmax(usable, axis=1)
+        origins = around[np.arange(candidates.size), direction]
+        tried[candidates, direction] = True
+        solved, good, new_bases, new_signs = step(points[origins], bases[origins], signs[origins], candidates)
+        won = candidates[good]
+        points[won], reached[won] = solved[good], True
+        bases[won], signs[won] = new_bases[good], new_signs[good]
+        following = neighbours[won].reshape(-1)
+        following = following[following >= 0]
+        candidates = np.unique(np.concatenate([candidates[~good], following[~reached[following]]]))
+    return points, reached
