@@ -5,7 +5,7 @@ small YAML file::
 
     closed_loop: [[closedloop1_A, closedloop1_B]]   # frame pairs that must coincide
     type: [6d]                                      # per pair: 6d (rigidly) or 3d (origins only: a ball joint)
-    name_mot: [mot1, mot2]                          # the actuated joints, exact URDF names
+    name_mot: [mot1, mot2]                          # the actuated joints (names; see below)
     joint_name: [spherical_foot]                    # optional: URDF joints re-typed ...
     joint_type: [SPHERICAL]                         # ... as SPHERICAL, FIXED, UJOINT_AB or CARDAN
     end_effector: {frame: effector, output: pose}   # optional (closedchain's own key): the end-effector
@@ -21,8 +21,22 @@ frame name, resolved as the loop frames are, whose origin and link are the
 end-effector's, and ``output`` (``position``, the default; ``orientation``,
 ``pose``, or ``tool`` with ``axis: [x, y, z]``, the tool's direction in that
 frame's coordinates), so that end-effector singularities can be classified
-and an exported mechanism comes back with its end-effector. Every other key is
-refused, naming it.
+and an exported mechanism comes back with its end-effector.
+
+The file is read as the collection's own loader reads it. ``name_mot``
+entries: its ``ActuationModel`` takes every joint whose name *contains* an
+entry; here an entry that is the exact name of a joint names that joint
+alone, and an entry that names no joint selects every movable joint whose name
+contains it, which the import says (:func:`mechanisms.urdf.import_tree`). The
+collection's older files write ``name_mot`` as one such pattern
+(``name_mot: mot``, read as a one-entry list) and give ``rotule_name:
+PATTERN``, with which their loader re-typed every joint whose name contains it
+as ``SPHERICAL`` (:attr:`Closures.spherical_pattern`). Any other key (the
+older files' ``Lidmot``/``Lidvmot`` joint indices, say) is not read: the
+collection's loaders ignore keys they do not use, and so does this reader,
+but never silently: :attr:`Closures.notes` names them. A file with such keys
+and none of the convention's is another kind of file, and refused.
+
 The file is read as :mod:`mechanisms.io` reads a mechanism file (YAML 1.2
 core schema, no anchors or tags, 1 MiB at most); nothing is evaluated.
 """
@@ -43,7 +57,9 @@ __all__ = ["Closures", "CLOSURE_TYPES", "JOINT_RETYPES", "END_EFFECTOR_OUTPUTS",
 CLOSURE_TYPES = ("6d", "3d")
 #: re-typings of a URDF joint besides ``UJOINT_AB``
 JOINT_RETYPES = ("SPHERICAL", "FIXED", "CARDAN")
-_KEYS = ("closed_loop", "type", "name_mot", "joint_name", "joint_type", "end_effector")
+_KEYS = ("closed_loop", "type", "name_mot", "joint_name", "joint_type", "end_effector", "rotule_name")
+#: the convention's own keys: a file with keys not read and none of these is another kind of file, refused
+_CONVENTION_KEYS = ("closed_loop", "type", "name_mot", "joint_name", "joint_type", "rotule_name")
 _END_EFFECTOR_KEYS = ("frame", "output", "axis")
 #: what an end-effector may output (as :class:`mechanisms.joints.EndEffector`)
 END_EFFECTOR_OUTPUTS = ("position", "orientation", "pose", "tool")
@@ -68,6 +84,12 @@ class Closures:
         (frame name, output) of the end-effector; None: none.
     end_effector_axis : tuple of float, optional
         A ``tool`` output's axis in the frame's coordinates (None for the other outputs).
+    spherical_pattern : str, optional
+        The older files' ``rotule_name``: every movable joint whose name contains it is re-typed ``SPHERICAL``
+        (unless ``joint_name`` re-types it otherwise). None: none.
+    notes : tuple of str
+        What reading the file decided that changes nothing by itself but must be said: keys not read, ``name_mot``
+        given as one pattern.
     """
 
     loops: tuple = ()
@@ -76,6 +98,8 @@ class Closures:
     retyped: dict = field(default_factory=dict)
     end_effector: Optional[tuple] = None
     end_effector_axis: Optional[tuple] = None
+    spherical_pattern: Optional[str] = None
+    notes: tuple = ()
 
 
 def universal_axes(joint_type):
@@ -110,18 +134,33 @@ def closures_from_dict(data, source="closures file"):
     Raises
     ------
     MechanismError
-        One line naming the field and item: an unknown key, a pair that is
-        not two frame names, a type other than 6d/3d, as many types as pairs
-        not given, a joint type not known, unequal ``joint_name`` and
-        ``joint_type`` lists, a name listed twice.
+        One line naming the field and item: a pair that is not two frame
+        names, a type other than 6d/3d, as many types as pairs not given, a
+        joint type not known, unequal ``joint_name`` and ``joint_type``
+        lists, a name listed twice, a key that is not text, keys not read
+        and none of the convention's (another kind of file). Other keys that
+        are not read are named in :attr:`Closures.notes`, not refused (the
+        collection's loaders ignore them too).
     """
     if data is None:
         data = {}
     if not isinstance(data, dict):
-        raise MechanismError(f"{source}: expected a mapping with keys {', '.join(_KEYS)}, got {type(data).__name__}")
+        raise MechanismError(f"{source}: expected a mapping with keys {', '.join(_KEYS[:5])}, "
+                             f"got {type(data).__name__}")
+    notes = []
+    ignored = []
     for key in data:
+        if not isinstance(key, str):
+            raise MechanismError(f"{source}: key {key!r}: expected a text key"[:300])
         if key not in _KEYS:
-            raise MechanismError(f"{source}: unknown key {key!r} (expected {', '.join(_KEYS)})")
+            ignored.append(key)
+    if ignored:
+        shown = ", ".join(repr(key) for key in ignored[:8]) + (", ..." if len(ignored) > 8 else "")
+        if not any(key in data for key in _CONVENTION_KEYS):  # another kind of file (a mechanism file, say)
+            raise MechanismError(f"{source}: not a closures file: it has keys {shown} and none of "
+                                 f"{', '.join(_CONVENTION_KEYS)}")
+        notes.append(f"closures file: key(s) {shown} not read (only {', '.join(_KEYS)} are), ignored as the "
+                     f"collection's loaders ignore them")
     loops = data.get("closed_loop") or []
     if not isinstance(loops, list):
         raise MechanismError(f"{source}: field 'closed_loop': expected a list of frame pairs, "
@@ -148,8 +187,16 @@ def closures_from_dict(data, source="closures file"):
         if not isinstance(kind, str) or kind.lower() not in CLOSURE_TYPES:
             raise MechanismError(f"{source}: field 'type': item {index}: expected 6d or 3d, got {kind!r}"[:300])
         checked.append(kind.lower())
-    actuated = _names(data.get("name_mot") or [], f"{source}: field 'name_mot'")
+    motors = data.get("name_mot") or []
+    if isinstance(motors, str):  # the older files: one name pattern, ``name_mot: mot``
+        notes.append(f"closures file: name_mot {motors!r} is one name, read as a list of one (the older files' "
+                     f"pattern)")
+        motors = [motors]
+    actuated = _names(motors, f"{source}: field 'name_mot'")
     _no_duplicates(actuated, f"{source}: field 'name_mot'")
+    spherical = data.get("rotule_name")
+    if spherical is not None:
+        spherical = check_name(spherical, f"{source}: field 'rotule_name'")
     names = _names(data.get("joint_name") or [], f"{source}: field 'joint_name'")
     joint_types = data.get("joint_type") or []
     if not isinstance(joint_types, list):
@@ -167,7 +214,7 @@ def closures_from_dict(data, source="closures file"):
                                  f"or UJOINT_AB (A, B two different axes of X, Y, Z), got {joint_type!r}"[:300])
         retyped[name] = joint_type
     end_effector, axis = _end_effector(data.get("end_effector"), source)
-    return Closures(tuple(pairs), tuple(checked), actuated, retyped, end_effector, axis)
+    return Closures(tuple(pairs), tuple(checked), actuated, retyped, end_effector, axis, spherical, tuple(notes))
 
 
 def _end_effector(value, source):
@@ -244,6 +291,8 @@ def closures_to_dict(closures):
     if closures.retyped:
         data["joint_name"] = list(closures.retyped)
         data["joint_type"] = list(closures.retyped.values())
+    if closures.spherical_pattern is not None:
+        data["rotule_name"] = closures.spherical_pattern
     if closures.end_effector is not None:
         data["end_effector"] = {"frame": closures.end_effector[0], "output": closures.end_effector[1]}
         if closures.end_effector_axis is not None:

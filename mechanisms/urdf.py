@@ -16,14 +16,22 @@ steps:
    joint (a mimic joint on no loop is left out with the rest of its
    dangling chain). The closures file may re-type a joint: ``SPHERICAL``
    (a ball joint at the joint origin), ``FIXED``, ``UJOINT_AB`` (a revolute
-   about the joint frame's axis A, then one about its moved axis B).
+   about the joint frame's axis A, then one about its moved axis B); the
+   older files' ``rotule_name`` re-types by name pattern, and a ``name_mot``
+   entry that names no joint actuates the movable joints whose names contain
+   it, as the collection's loader reads them (:mod:`mechanisms.closures`;
+   the notes say so).
 3. **Assemble**: a URDF's zero configuration rarely closes the loops. The
    closure map (per loop: for ``6d`` the rotation vector of
-   :math:`R_A^{\\mathsf T} R_B` and :math:`(p_B - p_A)/L`; for ``3d`` the
-   second part only; L the characteristic length of the tree) is driven to
-   zero from the zero configuration by the framework's Gauss–Newton
-   projection (:func:`manifold.project`, minimum-norm steps), so the
-   configuration reached is the closed one nearest the zero configuration.
+   :math:`R_A^{\\mathsf T} R_B` and :math:`R_A^{\\mathsf T}(p_B - p_A)/L`;
+   for ``3d`` the second part only; L the characteristic length of the tree;
+   both in frame A's coordinates, as Pinocchio's ``LOCAL`` contacts) is
+   driven to zero from the zero configuration by the framework's
+   Gauss–Newton projection (:func:`manifold.project`, minimum-norm steps), so
+   the configuration reached is the closed one nearest the zero
+   configuration. In frame A's coordinates the map does not change when a
+   joint that carries both frames moves (a humanoid's hip above its knee
+   linkage), so such joints stay at zero.
    The distance moved (dimensionless joint coordinates) and the residual are
    reported; where the loops cannot be closed the error names the loops
    with the largest residuals.
@@ -185,15 +193,19 @@ class Imported:
 
 # ----------------------------------------------------------------------------------------------- geometry
 
+_IDENTITY_3 = np.eye(3)
+_IDENTITY_4 = np.eye(4)
+
+
 def _rotation(axis, angle):
     """Rotation matrix about a unit axis (Rodrigues)."""
     x, y, z = axis
     skew = np.array([[0.0, -z, y], [z, 0.0, -x], [-y, x, 0.0]])
-    return np.eye(3) + np.sin(angle) * skew + (1.0 - np.cos(angle)) * skew @ skew
+    return _IDENTITY_3 + np.sin(angle) * skew + (1.0 - np.cos(angle)) * (skew @ skew)
 
 
 def _homogeneous(rotation=None, translation=None):
-    matrix = np.eye(4)
+    matrix = _IDENTITY_4.copy()
     if rotation is not None:
         matrix[:3, :3] = rotation
     if translation is not None:
@@ -336,7 +348,8 @@ def tree_from_urdf(text, source="URDF"):
     seen = set()
     for link in links:
         if link in seen:
-            raise MechanismError(f"{source}: link {link!r}: duplicate link name")
+            raise MechanismError(f"{source}: link {link!r}: two <link> elements have this name (link names must be "
+                                 f"unique: rename one, and the joints that name it)")
         seen.add(link)
     joints, notes, mimics = [], [], []
     for joint in robot.joints:
@@ -377,16 +390,33 @@ def retype(tree, closures, source="closures file"):
 
     ``SPHERICAL``: a ball joint at the joint origin; ``FIXED``: merged;
     ``UJOINT_AB``: a universal joint about the joint frame's axes A then B.
+    The older files' ``rotule_name`` pattern (:attr:`Closures.spherical_pattern`)
+    re-types as ``SPHERICAL`` every revolute or prismatic joint whose name
+    contains it and that ``joint_name`` does not re-type, as their loader did;
+    the notes name them. A ``joint_name`` that names no joint is skipped, as
+    the collection's loader skips it (it re-types the model's joints whose
+    names are listed), and named in the notes, never silently.
     """
-    if not closures.retyped:
-        return tree
     by_name = {joint.name: joint for joint in tree.joints}
-    for index, name in enumerate(closures.retyped):
-        if name not in by_name:
-            raise MechanismError(f"{source}: field 'joint_name': item {index}: unknown joint {name!r}")
+    retyped = {name: joint_type for name, joint_type in closures.retyped.items() if name in by_name}
+    notes = []
+    unknown = [name for name in closures.retyped if name not in by_name]
+    if unknown:
+        notes.append(f"joint_name {', '.join(repr(name) for name in unknown)}: no joint of that name, re-typing not "
+                     f"applied (the collection's loader skips such names too)")
+    pattern = closures.spherical_pattern
+    if pattern is not None:
+        matched = [joint.name for joint in tree.joints
+                   if pattern in joint.name and joint.type in ("R", "P") and joint.name not in retyped]
+        retyped.update({name: "SPHERICAL" for name in matched})
+        said = f"joints re-typed SPHERICAL (their names contain it): {', '.join(matched)}" if matched else \
+            "no joint's name contains it"
+        notes.append(f"rotule_name {pattern!r}: {said}")
+    if not retyped and not notes:
+        return tree
     joints = []
     for joint in tree.joints:
-        joint_type = closures.retyped.get(joint.name)
+        joint_type = retyped.get(joint.name)
         if joint_type == "SPHERICAL":
             joint = TreeJoint(joint.name, "S", joint.parent, joint.child, joint.placement, (), joint.child_offset)
         elif joint_type == "FIXED":
@@ -396,7 +426,8 @@ def retype(tree, closures, source="closures file"):
             joint = TreeJoint(joint.name, "U", joint.parent, joint.child, joint.placement,
                               (np.eye(3)[first], np.eye(3)[second]), joint.child_offset)
         joints.append(joint)
-    return KinematicTree(tree.name, tree.root, tree.links, tuple(joints), tree.frames, tree.notes, tree.mimics)
+    return KinematicTree(tree.name, tree.root, tree.links, tuple(joints), tree.frames, (*tree.notes, *notes),
+                         tree.mimics)
 
 
 # ----------------------------------------------------------------------------------------------- assembly
@@ -472,8 +503,9 @@ class _Closure:
 
     def kinematics(self, point):
         """(body poses, per movable joint its frame before its motion and the world twists of its coordinates)."""
-        poses = {self.tree.root: np.eye(4)}
+        poses = {self.tree.root: _IDENTITY_4}
         frames, twists = [], np.zeros((self.ambient.dim, 6))
+        turning_columns, turning_axes, turning_origins = [], [], []  # the rotations' twists, crossed at once
         for joint, placement, parent, child, columns, part in zip(
                 self.bodies.movable, self.bodies.placements, self.bodies.parents, self.bodies.children,
                 self.columns, self.point_slices):
@@ -485,6 +517,8 @@ class _Closure:
                 axes = [rotation @ joint.axes[0]]
             elif joint.type == "P":
                 motion = _homogeneous(translation=joint.axes[0] * values[0])
+                twists[columns[0], 3:] = rotation @ joint.axes[0]
+                axes = []
             elif joint.type == "U":
                 first = _rotation(joint.axes[0], values[0])
                 motion = _homogeneous(first @ _rotation(joint.axes[1], values[1]))
@@ -493,14 +527,16 @@ class _Closure:
                 turned = values.reshape(3, 3)
                 motion = _homogeneous(turned)
                 axes = list((rotation @ turned).T)
-            if joint.type == "P":
-                twists[columns[0], 3:] = rotation @ joint.axes[0]
-            else:
-                for column, axis in zip(columns, axes):
-                    twists[column] = np.concatenate([axis, -np.cross(axis, origin)])
+            for column, axis in zip(columns, axes):
+                turning_columns.append(column)
+                turning_axes.append(axis)
+                turning_origins.append(origin)
             frames.append(frame)
-            child_offset = np.eye(4) if joint.child_offset is None else joint.child_offset
-            poses[child] = frame @ motion @ child_offset
+            poses[child] = frame @ motion if joint.child_offset is None else frame @ motion @ joint.child_offset
+        if turning_columns:
+            axes = np.asarray(turning_axes)
+            twists[turning_columns, :3] = axes
+            twists[turning_columns, 3:] = -np.cross(axes, np.asarray(turning_origins))
         return poses, frames, twists
 
     def _frames(self, poses):
@@ -514,22 +550,26 @@ class _Closure:
         rows = []
         for kind, first, second, _, _ in self._frames(poses):
             if kind == "6d":
-                rows.append(first[:3, :3] @ rotation_log(first[:3, :3].T @ second[:3, :3]))
-            rows.append((second[:3, 3] - first[:3, 3]) / self.length)
+                rows.append(rotation_log(first[:3, :3].T @ second[:3, :3]))
+            rows.append(first[:3, :3].T @ (second[:3, 3] - first[:3, 3]) / self.length)
         return np.concatenate(rows) if rows else np.zeros(0)
 
     def jacobian(self, point):
-        """DΦ in the recentred chart: exact translation rows, rotation rows exact at a closed configuration."""
+        """DΦ in the recentred chart: exact translation rows, rotation rows exact at a closed configuration.
+
+        Both parts are in frame A's coordinates, so a joint that carries both frames (a common ancestor, sign 0)
+        has a zero column: d(R_A^T (p_B - p_A)) = R_A^T (s (v + ω × p_B)) with s = 1 for a joint moving B only,
+        -1 for A only, 0 for both (the rotation of the gap by a common joint cancels the gap's own change).
+        """
         poses, _, twists = self.kinematics(np.asarray(point, dtype=float))
         blocks = []
+        omega, velocity = twists[:, :3], twists[:, 3:]
         for kind, first, second, body_a, body_b in self._frames(poses):
-            sign = self.moves[body_b].astype(float) - self.moves[body_a].astype(float)
-            omega, velocity = twists[:, :3], twists[:, 3:]
-            moving_b = self.moves[body_b][:, None] * (velocity + np.cross(omega, second[:3, 3]))
-            moving_a = self.moves[body_a][:, None] * (velocity + np.cross(omega, first[:3, 3]))
+            sign = (self.moves[body_b].astype(float) - self.moves[body_a].astype(float))[:, None]
+            rotation = first[:3, :3]
             if kind == "6d":
-                blocks.append((sign[:, None] * omega).T)
-            blocks.append((moving_b - moving_a).T / self.length)
+                blocks.append((sign * omega @ rotation).T)
+            blocks.append((sign * (velocity + np.cross(omega, second[:3, 3])) @ rotation).T / self.length)
         return np.vstack(blocks) if blocks else np.zeros((0, self.ambient.dim))
 
     def loop_residuals(self, point):
@@ -632,16 +672,7 @@ def import_tree(tree, closures, name=None, source="robot", description=None):
         fixed or spherical joint listed as actuated, loops that cannot close.
     """
     bodies = _bodies(tree)
-    movable_names = {joint.name: joint for joint in bodies.movable}
-    all_names = {joint.name for joint in tree.joints}
-    for index, motor in enumerate(closures.actuated):
-        where = f"{source}: field 'name_mot': item {index}"
-        if motor not in all_names:
-            raise MechanismError(f"{where}: unknown joint {motor!r}")
-        if motor not in movable_names:
-            raise MechanismError(f"{where}: joint {motor!r} is fixed and cannot be actuated")
-        if movable_names[motor].type == "S":
-            raise MechanismError(f"{where}: joint {motor!r} is spherical and cannot be actuated")
+    motors, motor_notes = _motors(tree, bodies, closures.actuated, source)
     loops = []
     for index, ((first, second), kind) in enumerate(zip(closures.loops, closures.types)):
         where = f"{source}: field 'closed_loop': item {index}"
@@ -662,8 +693,8 @@ def import_tree(tree, closures, name=None, source="robot", description=None):
                                     / closure.ambient.tangent_scales))
     poses, frames, _ = closure.kinematics(point)
     mechanism, notes = _build(tree, bodies, closures, closure, point, poses, frames, name or tree.name, description,
-                              end_effector, source)
-    notes = (*tree.notes, *notes,
+                              end_effector, source, motors)
+    notes = (*closures.notes, *tree.notes, *motor_notes, *notes,
              f"assembled from the zero configuration: moved by {distance:.3g} (radians; lengths over "
              f"{length:.3g}), closure residual {float(np.linalg.norm(closure.constraint(point))):.1e}")
     text = "\n".join(([description] if description else []) + list(notes))
@@ -673,8 +704,39 @@ def import_tree(tree, closures, name=None, source="robot", description=None):
                     tuple(residuals), tree, closures, text)
 
 
+def _motors(tree, bodies, entries, source):
+    """The actuated joints named by the ``name_mot`` entries, and notes on the entries read as patterns.
+
+    An entry that is the exact name of a joint names it alone; an entry that names no joint selects every movable
+    joint whose name contains it (the collection's loader, ``ActuationModel``, matches ``entry in name``). A fixed
+    or spherical joint cannot be actuated; an entry that selects nothing is refused, naming it.
+    """
+    movable = {joint.name: joint for joint in bodies.movable}
+    all_names = {joint.name for joint in tree.joints}
+    motors, notes = [], []
+    for index, entry in enumerate(entries):
+        where = f"{source}: field 'name_mot': item {index}"
+        if entry in all_names:
+            names = [entry]
+        else:
+            names = [name for name in movable if entry in name]
+            if not names:
+                raise MechanismError(f"{where}: unknown joint {entry!r} (no joint has that name, and no movable "
+                                     f"joint's name contains it)")
+            notes.append(f"name_mot {entry!r} names no joint: read as a pattern, as the collection's loader does, it "
+                         f"actuates the joints whose names contain it: {_listing(names)}")
+        for name in names:
+            if name not in movable:
+                raise MechanismError(f"{where}: joint {name!r} is fixed and cannot be actuated")
+            if movable[name].type == "S":
+                raise MechanismError(f"{where}: joint {name!r} is spherical and cannot be actuated")
+            if name not in motors:
+                motors.append(name)
+    return tuple(motors), notes
+
+
 def _build(tree, bodies, closures, closure, point, poses, frames, name, description, end_effector=None,
-           source="robot"):
+           source="robot", motors=None):
     union = _Union()
     notes = []
     if bodies.merged:
@@ -686,7 +748,7 @@ def _build(tree, bodies, closures, closure, point, poses, frames, name, descript
             welded.append(f"{body_b!r} into {body_a!r}")
     if welded:
         notes.append("6d closures weld links: " + ", ".join(welded))
-    actuated = set(closures.actuated)
+    actuated = set(closures.actuated if motors is None else motors)
     joints, locked = [], []
     for joint, frame, parent, child, part in zip(bodies.movable, frames, bodies.parents, bodies.children,
                                                  closure.point_slices):
@@ -726,11 +788,11 @@ def _build(tree, bodies, closures, closure, point, poses, frames, name, descript
     joints, dropped = _prune(joints, ground)
     if dropped:
         lost = [joint.name for joint in dropped if joint.actuated]
-        notes.append(f"joints on no loop left out (each adds free coordinates): {', '.join(j.name for j in dropped)}"
-                     + (f"; actuated among them: {', '.join(lost)}" if lost else ""))
+        notes.append(f"joints on no loop left out (each adds free coordinates): {_listing([j.name for j in dropped])}"
+                     + (f"; actuated among them: {_listing(lost)}" if lost else ""))
     left = [joint.name for joint in dropped if joint.name in tree.mimics]
     if left:
-        notes.append(f"<mimic> joints on no loop, left out with their coupling: {', '.join(left)}")
+        notes.append(f"<mimic> joints on no loop, left out with their coupling: {_listing(left)}")
     if not joints:
         raise MechanismError(f"{name}: no movable joint is left to analyse")
     effector = None
@@ -744,6 +806,13 @@ def _build(tree, bodies, closures, closure, point, poses, frames, name, descript
         point = None if output == "orientation" else tuple(frame[:3, 3])
         effector = EndEffector(link, point, output, None if axis is None else tuple(frame[:3, :3] @ axis))
     return Mechanism(name, "spatial", joints, ground, effector), notes
+
+
+def _listing(names, shown=12):
+    """Names joined by commas, the first `shown` of them and how many more."""
+    names = list(names)
+    more = len(names) - shown
+    return ", ".join(names[:shown]) + (f" and {more} more ({len(names)} in all)" if more > 0 else "")
 
 
 def _prune(joints, ground):

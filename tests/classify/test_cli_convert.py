@@ -79,7 +79,7 @@ def test_convert_catalogue_entry_to_urdf_and_back(tmp_path, capsys):
     (["convert", "five-bar", "--write", "out.txt"], "--write: expected"),
     (["classify", *robot("5bar_linkage"), "--param", "a=1"], "--param: does not apply"),
     (["classify", str(ROBOTS / "5bar_linkage" / "robot.urdf"), "--closures",
-      str(ROBOTS.parents[2] / "examples" / "five_bar.yaml")], "five_bar.yaml: unknown key 'name'"),  # wrong shape
+      str(ROBOTS.parents[2] / "examples" / "five_bar.yaml")], "five_bar.yaml: not a closures file: it has keys 'name', "),  # wrong shape
     (["classify", *robot("cannot_close")], "loop 2 ['coupler_tip', 'follower_tip']"),
     (["convert", *robot("leg_floating")[:1], "--closures", str(ROBOTS / "leg_floating" / "robot.urdf"),
       "--write", "x.yaml"], "robot.urdf: cannot parse YAML"),  # a URDF given as the closures

@@ -162,8 +162,9 @@ def write(tmp_path, name, text):
      "field 'name_mot': item 0: unknown joint 'mot9'"),
     ({"closed_loop": [["closedloop1_A", "closedloop1_B"]], "name_mot": ["effector_frame"]}, "is fixed"),
     ({"closed_loop": [["closedloop1_A", "built"]]}, "the loops cannot be closed"),
-    ({"closed_loop": [["closedloop1_A", "closedloop1_B"]], "joint_name": ["nojoint"], "joint_type": ["FIXED"]},
-     "field 'joint_name': item 0: unknown joint 'nojoint'"),
+    ({"closed_loop": [["closedloop1_A", "closedloop1_B"]], "name_mot": ["ot9"]},
+     "field 'name_mot': item 0: unknown joint 'ot9' \\(no joint has that name, and no movable joint's name "
+     "contains it"),
 ])
 def test_bad_closures_are_one_line_naming_the_field(tmp_path, closures, message):
     import yaml
@@ -188,10 +189,13 @@ def test_loops_that_cannot_close_are_named(tmp_path):
     ({"closed_loop": [["a"]]}, "field 'closed_loop': item 0: expected a pair"),
     ({"closed_loop": [["a", "b"]], "type": ["4d"]}, "field 'type': item 0: expected 6d or 3d"),
     ({"closed_loop": [["a", "b"]], "type": ["6d", "3d"]}, "field 'type': expected 1 types"),
-    ({"closed_loop": [], "loops": []}, "unknown key 'loops'"),
     ({"joint_name": ["a"], "joint_type": ["HINGE"]}, "field 'joint_type': item 0"),
     ({"joint_name": ["a"]}, "field 'joint_type': expected 1 types"),
-    ({"name_mot": "mot1"}, "field 'name_mot': expected a list"),
+    ({"name_mot": {"mot1": 1}}, "field 'name_mot': expected a list"),
+    ({"rotule_name": ["to_rotule"]}, "field 'rotule_name'"),
+    ({1: "a"}, "key 1: expected a text key"),
+    ({"name": "five-bar", "joints": [], "end_effector": {"link": "a"}},
+     "not a closures file: it has keys 'name', 'joints' and none of closed_loop, type, name_mot"),
 ])
 def test_closures_file_of_the_wrong_shape(data, message):
     with pytest.raises(MechanismError, match=message):

@@ -3,6 +3,7 @@ Delta of ball-jointed parallelograms, a legged robot's knee linkage with a float
 FIXED re-typing, a mimic joint and a dangling foot, loops that cannot close; URDF files the parser refuses, and
 MJCF elements that are not loop closures. Every refusal is one line naming the joint, element or loop."""
 
+import re
 import shutil
 from pathlib import Path
 
@@ -117,7 +118,11 @@ def test_loops_that_cannot_close_exit_2_naming_the_open_loop_only(capsys):
     status, out, err = run(["classify", str(urdf), "--closures", str(closures)], capsys)
     assert status == 2 and out == "" and err.count("\n") == 1 and "Traceback" not in err
     assert "the loops cannot be closed" in err
-    assert "loop 2 ['coupler_tip', 'follower_tip'] residual 0.465" in err and "loop 1" not in err
+    assert "loop 1" not in err
+    named = re.search(r"loop 2 \['coupler_tip', 'follower_tip'\] residual ([0-9.]+)", err)
+    # the four-bar's pivots are 1.0 apart and its links reach 0.5 at most: its gap is 0.5 or more, over the tree's
+    # characteristic length (the ground's pivots are 1.118 apart), wherever Gauss-Newton stalls
+    assert named and float(named.group(1)) >= 0.5 / np.hypot(1.0, 0.5) - 1e-3
 
 
 def test_the_legged_robot_converts_and_draws(tmp_path, capsys):
