@@ -77,7 +77,7 @@ def test_report_html_draws_the_imported_robot(tmp_path, capsys):
                             "--output", str(tmp_path / "report.txt")], capsys)
     assert status == 0, err
     document = page.read_text(encoding="utf-8")
-    assert document.count('src="data:image/png;base64,') == 1  # the configuration drawn; 3 dof: no loci
+    assert document.count('src="data:image/png;base64,') == 2  # the configuration drawn, the loci in sections (3 dof)
     assert "robot.urdf: home" in document
 
 
