@@ -68,6 +68,7 @@ def loci_picture(mechanism, start, survey, caption, seed=0):
     Returns
     -------
     Picture or None
+        None for more than three dof, or when the grid reaches no configuration from `start`.
     """
     from .figures.loci import draw_cspace_map, draw_sections
     from .loci import default_columns, trace_loci
@@ -78,6 +79,8 @@ def loci_picture(mechanism, start, survey, caption, seed=0):
     columns = default_columns(mechanism, dof)
     loci = trace_loci(mechanism, start, columns=columns if dof > 1 else None,
                       counts=SECTIONS_GRID if dof == 3 else LOCI_GRID, rng=np.random.default_rng(seed), survey=survey)
+    if dof > 1 and not loci.coverage["reached"]:  # the grid reached no configuration from the start: nothing to draw
+        return None
     title = f"{mechanism.name}: singularity loci"
     figure = (draw_sections(mechanism, loci, columns[:2], title=title) if dof == 3
               else draw_cspace_map(mechanism, loci, columns, title=title))
