@@ -31,6 +31,29 @@ bit for bit. All the grid points of one continuation front are computed at
 once (array work): a grid of n₁ × … × n_d points takes about n₁ + … + n_d
 fronts.
 
+**A singular start.** Where the starting configuration is singular for the
+held coordinates — DΦ restricted to the free ones, ``DΦ_free·s``, has a
+lower rank than DΦ·s, as at an actuator singularity when the grid is over
+the actuated coordinates (Chablat, Wenger & Angeles 1998 eq. 9: the
+five-bar's distal links aligned) — the first continuation step has no
+unique predictor and can reach nothing. When no grid point left is reached
+from the start, the remaining ones are started (nearest first, as above)
+from a regular neighbour on M instead (:func:`regular_start`): a step of
+0.05, 0.1 or 0.2 (dimensionless, :data:`NEIGHBOUR_STEPS`) from the start
+along each tangent direction of M (both ways), corrected onto M, the first
+size at which one is regular, and of those the best conditioned. A small
+step along M stays on the start's connected part of M; where the start is
+a fold between two assembly modes, the neighbour is in one of them.
+
+**Other assembly branches** (:func:`assemble_branches`). The grid follows
+one branch. The loops are solved at a few grid points (probes) from random
+values of the free coordinates (Gauss–Newton in the free coordinates, as
+the corrector above, to ‖Φ‖ ≤ 1e-10); a solution farther than
+:data:`BRANCH_SEPARATION` (dimensionless) from every branch's configuration
+at its grid point starts a new branch, assembled over the grid from it like
+the first; the points of a new branch that coincide with an earlier
+branch's are left to the earlier one.
+
 Used by ``closedchain map`` (:mod:`classify.cli.map_command`) and the loci
 (:mod:`classify.loci`).
 """
@@ -42,7 +65,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["Grid", "grid_targets", "held_columns", "held_entries", "assemble_grid", "grid_neighbours"]
+__all__ = ["Grid", "grid_targets", "held_columns", "held_entries", "assemble_grid", "grid_neighbours",
+           "regular_start", "StartingPoint", "REGULAR_RTOL", "NEIGHBOUR_STEPS", "assemble_branches",
+           "BRANCH_SEPARATION"]
 
 #: ‖Φ‖ of an assembled grid point (the default of :func:`mechanisms.assemble`)
 _TOLERANCE = 1e-10
@@ -61,6 +86,41 @@ _STEP_LIMIT = 2000
 #: grid points tried at once when a part of the grid is started from the configuration: first, and at most
 _SEED_CHUNK = 16
 _SEED_CHUNK_LIMIT = 4096
+
+
+#: relative singular-value cut of ``DΦ_free·s`` against σ₁(DΦ·s) below which a start is singular for the held
+#: coordinates (as :data:`manifold.rank.DEFAULT_RTOL` for the classification)
+REGULAR_RTOL = 1e-6
+#: dimensionless distance above which two configurations at one grid point are on different assembly branches
+BRANCH_SEPARATION = 1e-3
+#: dimensionless step sizes from a singular start to its regular neighbour, tried in order
+NEIGHBOUR_STEPS = (0.05, 0.1, 0.2)
+
+
+@dataclass(frozen=True)
+class StartingPoint:
+    """Where a grid's continuation starts (:func:`regular_start`).
+
+    Attributes
+    ----------
+    point : ndarray, shape=[point_size]
+        The configuration the continuation starts from.
+    singular : bool
+        Whether the given start was singular for the held coordinates.
+    moved : float
+        Dimensionless distance from the given start to `point` (0 when regular).
+    margin : float
+        At `point`: ``σ_r(DΦ_free·s) / σ₁(DΦ·s)`` (r the rank of DΦ·s there), against :data:`REGULAR_RTOL`.
+    """
+
+    point: np.ndarray
+    singular: bool
+    moved: float
+    margin: float
+
+    def to_dict(self):
+        """``{"singular", "moved", "margin", "tolerance"}`` for a coverage or a JSON document."""
+        return {"singular": self.singular, "moved": self.moved, "margin": self.margin, "tolerance": REGULAR_RTOL}
 
 
 @dataclass(frozen=True)
@@ -276,6 +336,71 @@ def _continue(mechanism, sources, targets, held, entries):
     return current, ok
 
 
+def _held_margins(mechanism, points, held):
+    """``σ_r(DΦ_free·s) / σ₁(DΦ·s)`` at each point, r the numerical rank of DΦ·s there, shape=[n]."""
+    from manifold import rank_of_values
+    from mechanisms.kinematics import constraint_jacobian, kinematics_of
+
+    ambient = kinematics_of(mechanism).ambient
+    free = np.setdiff1d(np.arange(ambient.dim), np.asarray(held, dtype=int))
+    jacobian = constraint_jacobian(mechanism, np.atleast_2d(points)) * ambient.tangent_scales
+    full = np.linalg.svd(jacobian, compute_uv=False)
+    if not free.size:
+        return np.ones(len(full))
+    restricted = np.linalg.svd(jacobian[..., free], compute_uv=False)
+    margins = np.zeros(len(full))
+    for index, values in enumerate(full):
+        rank = rank_of_values(values).rank
+        if rank == 0:
+            margins[index] = 1.0
+        elif rank <= restricted.shape[1]:
+            margins[index] = restricted[index, rank - 1] / max(values[0], 1e-300)
+    return margins
+
+
+def regular_start(mechanism, start, held):
+    """The start itself when it is regular for the held coordinates, else a regular neighbour on M (module notes).
+
+    Parameters
+    ----------
+    mechanism : Mechanism
+    start : ndarray, shape=[point_size]
+        A configuration on M.
+    held : sequence of int
+        The held tangent coordinates (:func:`held_columns`).
+
+    Returns
+    -------
+    StartingPoint
+        The given start when no neighbour within :data:`NEIGHBOUR_STEPS` is regular (the continuation tries it
+        as it is).
+    """
+    from manifold import rank_of_values
+    from mechanisms.kinematics import closes, constraint_jacobian, kinematics_of
+
+    ambient = kinematics_of(mechanism).ambient
+    start = np.asarray(start, dtype=float)
+    margin = float(_held_margins(mechanism, start, held)[0])
+    if margin > REGULAR_RTOL:
+        return StartingPoint(start, False, 0.0, margin)
+    scales = ambient.tangent_scales
+    jacobian = constraint_jacobian(mechanism, start[None])[0] * scales
+    values, right = np.linalg.svd(jacobian, full_matrices=True)[1:]
+    tangent = right[rank_of_values(values).rank:]  # a basis of T_pM (dimensionless)
+    directions = np.concatenate([tangent, -tangent])
+    for size in NEIGHBOUR_STEPS:
+        guesses = ambient.retract(np.broadcast_to(start, (len(directions), start.size)), size * directions * scales)
+        corrected, residuals = _correct(mechanism, guesses, np.arange(ambient.dim), 4 * _CORRECTOR_ITERATIONS)
+        moved = np.linalg.norm(ambient.inverse_retract(start, corrected) / scales, axis=-1)
+        margins = _held_margins(mechanism, corrected, held)
+        good = ((residuals <= _TOLERANCE) & np.asarray(closes(mechanism, corrected, _TOLERANCE), dtype=bool)
+                & (moved <= 2 * size) & (margins > REGULAR_RTOL))
+        if good.any():
+            best = int(np.argmax(np.where(good, margins, -np.inf)))
+            return StartingPoint(corrected[best], True, float(moved[best]), float(margins[best]))
+    return StartingPoint(start, True, 0.0, margin)
+
+
 def grid_neighbours(shape):
     """The neighbours of every grid point, shape=[n, 2d]: column 2a the point one step back along axis a,
     2a + 1 one step forward (flat C-order indices, -1 off the grid)."""
@@ -292,7 +417,7 @@ def grid_neighbours(shape):
     return result
 
 
-def assemble_grid(mechanism, start, targets, shape, held, bar=None):
+def assemble_grid(mechanism, start, targets, shape, held, bar=None, with_start=False):
     """Every grid point assembled by continuation over the grid from a configuration (see the module notes).
 
     Parameters
@@ -308,12 +433,17 @@ def assemble_grid(mechanism, start, targets, shape, held, bar=None):
         The held tangent coordinates (:func:`held_columns`).
     bar : progress bar, optional
         Updated by the number of points reached.
+    with_start : bool
+        Also return where the continuation started.
 
     Returns
     -------
     points : ndarray, shape=[n, point_size]
         NaN rows where unreachable.
     reached : ndarray of bool, shape=[n]
+    starting : StartingPoint
+        With `with_start`: the given start (``moved`` 0; ``singular`` and ``margin`` there), or the regular
+        neighbour the grid's unreached points were started from.
     """
     from mechanisms.kinematics import kinematics_of
 
@@ -321,6 +451,8 @@ def assemble_grid(mechanism, start, targets, shape, held, bar=None):
     held = np.asarray(held, dtype=int)
     entries = held_entries(ambient, held)
     targets = np.asarray(targets, dtype=float)
+    given = np.asarray(start, dtype=float)
+    starting = None  # the regular neighbour of a singular start, once needed
     count = len(targets)
     neighbours = grid_neighbours(shape)
     points = np.full(targets.shape, np.nan)
@@ -351,6 +483,14 @@ def assemble_grid(mechanism, start, targets, shape, held, bar=None):
             continue
         seed = _seed(mechanism, start, targets, held, entries, distance,
                      np.flatnonzero(~reached & ~started & ~tried.any(axis=1)), started)
+        if seed is None and starting is None:
+            starting = regular_start(mechanism, given, held)
+            if starting.moved:  # a singular start: the rest of the grid from its regular neighbour
+                start = starting.point
+                distance = np.linalg.norm(ambient.inverse_retract(start, targets)[:, held]
+                                          / ambient.tangent_scales[held], axis=-1)
+                started = reached.copy()
+                continue
         if seed is None:
             break
         index, point = seed
@@ -359,6 +499,11 @@ def assemble_grid(mechanism, start, targets, shape, held, bar=None):
             bar.update(1)
         candidates = neighbours[index][neighbours[index] >= 0]
         candidates = candidates[~reached[candidates]]
+    if with_start:
+        if starting is None or not starting.moved:
+            margin = float(_held_margins(mechanism, given, held)[0])
+            starting = StartingPoint(given, margin <= REGULAR_RTOL, 0.0, margin)
+        return points, reached, starting
     return points, reached
 
 
@@ -378,3 +523,80 @@ def _seed(mechanism, start, targets, held, entries, distance, fresh, started):
             return int(chunk[first]), found[first]
         begin, size = begin + size, min(2 * size, _SEED_CHUNK_LIMIT)
     return None
+
+
+def assemble_branches(mechanism, start, targets, shape, held, count, rng, probes=8, tries=16):
+    """The grid assembled on the start's branch and on up to ``count − 1`` other assembly branches (module notes).
+
+    Parameters
+    ----------
+    mechanism : Mechanism
+    start : ndarray, shape=[point_size]
+    targets : ndarray, shape=[n, point_size]
+    shape : tuple of int
+    held : sequence of int
+    count : int
+        The most branches (≥ 1; 1: :func:`assemble_grid` alone).
+    rng : numpy.random.Generator
+        For the probes and the random free coordinates.
+    probes : int
+        Grid points where the loops are solved from random values.
+    tries : int
+        Random values per probe.
+
+    Returns
+    -------
+    points : ndarray, shape=[b, n, point_size]
+        Per branch, NaN rows where not reached (or reached by an earlier branch).
+    reached : ndarray of bool, shape=[b, n]
+    starting : StartingPoint
+        Where the first branch's continuation started (:func:`assemble_grid`).
+    solutions : int
+        Distinct solutions the probes found (before they were assembled into branches).
+    """
+    from mechanisms.kinematics import closes, kinematics_of
+
+    ambient = kinematics_of(mechanism).ambient
+    scales = ambient.tangent_scales
+    targets = np.asarray(targets, dtype=float)
+    held = np.asarray(held, dtype=int)
+    first, reached, starting = assemble_grid(mechanism, start, targets, shape, held, with_start=True)
+    points, masks = [first], [reached]
+    if count <= 1:
+        return np.array(points), np.array(masks), starting, 0
+    free = np.setdiff1d(np.arange(ambient.dim), held)
+    entries = held_entries(ambient, held)
+    chosen = np.sort(rng.choice(len(targets), size=min(probes, len(targets)), replace=False))
+    which = np.repeat(chosen, tries)
+    tangent = np.zeros((which.size, ambient.dim))
+    tangent[:, free] = rng.uniform(-np.pi, np.pi, (which.size, free.size)) * scales[free]
+    guesses = ambient.retract(targets[which], tangent)
+    guesses[:, entries] = targets[which][:, entries]
+    solved, residuals = _correct(mechanism, guesses, free, 8 * _CORRECTOR_ITERATIONS)
+    good = (residuals <= _TOLERANCE) & np.asarray(closes(mechanism, solved, _TOLERANCE), dtype=bool)
+    solved, which = solved[good], which[good]
+
+    def known(point, index):
+        others = [branch[index] for branch, mask in zip(points, masks) if mask[index]]
+        return bool(others) and np.min(np.linalg.norm(
+            ambient.inverse_retract(np.array(others), point) / scales, axis=-1)) <= BRANCH_SEPARATION
+
+    distinct = []
+    for point, index in zip(solved, which):
+        if not any(index == other and np.linalg.norm(ambient.inverse_retract(found, point) / scales)
+                   <= BRANCH_SEPARATION for found, other in distinct) and not known(point, index):
+            distinct.append((point, index))
+    for point, index in distinct:
+        if len(points) >= count:
+            break
+        if known(point, index):
+            continue
+        branch, mask = assemble_grid(mechanism, point, targets, shape, held)
+        for index_reached in np.flatnonzero(mask):  # left to an earlier branch where they coincide
+            if known(branch[index_reached], index_reached):
+                mask[index_reached] = False
+        branch[~mask] = np.nan
+        if mask.any():
+            points.append(branch)
+            masks.append(mask)
+    return np.array(points), np.array(masks), starting, len(distinct)

@@ -28,7 +28,19 @@ so. With more (redundant actuation), the actuator singularities of a 1- or
 starting configuration (:func:`classify.grid_continuation.assemble_grid`: the
 starting configuration's branch). Seeds are the grid edges along which a sign
 function changes sign, and the edges from a reached point to an unreached one
-(the reach of a branch ends at a fold, often an actuator singularity). Each
+(the reach of a branch ends at a fold, often an actuator singularity), and
+the reached points where a sign function vanishes (its magnitude,
+:func:`sign_magnitudes`, at most :data:`ZERO_TOLERANCE`). From a start
+singular for the grid's coordinates (e.g. an actuator singularity of a grid
+over the actuated coordinates) the continuation can reach nothing; the grid
+points it leaves are then started from a regular neighbour on M
+(:func:`classify.grid_continuation.regular_start`), said in the coverage's
+``start``. With ``assembly_branches`` > 1 the grid is also assembled on
+the other assembly branches the loops' solutions at a few grid points lead
+to (:func:`classify.grid_continuation.assemble_branches`; each sample's
+branch in :attr:`Loci.sample_branches`), and the seeds of every branch are
+traced: e.g. the five-bar's two solutions for the same inputs, of opposite
+signs of det A (Chablat, Wenger & Angeles 1998 eq. 9). Each
 seed is corrected onto the curve ``{Φ = 0, s = 0}`` by Gauss–Newton
 (:func:`manifold.project`, ‖(Φ, s)‖ ≤ :data:`TOLERANCE`), the gradient of s by
 central differences (step 1e-6, dimensionless). From the first seed not yet
@@ -52,8 +64,17 @@ section, the grid points reached, the seeds and the pieces found.
 **1 dof.** M itself is the curve ``{Φ = 0}``, followed the same way from
 points of M sampled over its branches (:func:`manifold.sample_manifold`) and
 the starting configuration: each traced curve is one branch. The loci are
-points: where s_a or s_e changes sign between consecutive points of a branch,
-corrected onto ``{Φ = 0, s = 0}`` (a square system). A C-space singularity
+points: where s_a or s_e changes sign between consecutive points of a branch
+(a closed branch: its last and first points too) or vanishes at one (its
+magnitude, :func:`sign_magnitudes`, at most :data:`ZERO_TOLERANCE`: a start
+at a singularity is found), corrected onto ``{Φ = 0, s = 0}`` (a square
+system). Where a sign function vanishes at every point of a traced branch
+(its largest magnitude along it at most :data:`ZERO_TOLERANCE`, reported
+in the coverage's ``whole_branch`` with the tolerance), the whole branch is
+that kind's locus: one piece, ``whole_branch`` set, confirmed by the
+classification at its points (Park & Kim 1999 Fig. 3a: the slider-crank
+with crank = coupler, whose slider stays at the crank's pivot on one
+branch; Gosselin & Angeles 1990 eq. 17). A C-space singularity
 (a branch point, where two branches cross) is a zero of both, found the same
 way.
 
@@ -84,7 +105,7 @@ import numpy as np
 __all__ = ["default_columns", "TOLERANCE", "STEP_LIMIT", "SECTION_COUNT", "LocusPiece", "Loci", "sign_functions",
            "trace_loci", "TRACEABLE_KINDS", "locus_coordinates", "cspace_function", "search_cspace",
            "CSPACE_TOLERANCE", "CSPACE_ITERATIONS",
-           "redundant_actuator_function"]
+           "redundant_actuator_function", "sign_magnitudes", "ZERO_TOLERANCE"]
 
 #: ‖(Φ, s)‖ of a corrected locus point
 TOLERANCE = 1e-11
@@ -96,6 +117,10 @@ TRACEABLE_KINDS = ("actuator", "end_effector")
 #: of DΦ, step 1e-6, whose error keeps σ_r from falling much below 1e-9), and the most Gauss–Newton steps to it
 CSPACE_TOLERANCE = 1e-8
 CSPACE_ITERATIONS = 200
+#: a sign function vanishes at a configuration where its magnitude (:func:`sign_magnitudes`, Hadamard's ratio
+#: ``|det A| / ∏ ‖A_i‖`` in [0, 1]) is at most this: a zero at a sample, or, at every point of a traced branch of
+#: M, a branch singular everywhere (rounding leaves about 1e-16 there)
+ZERO_TOLERANCE = 1e-9
 #: sections of a 3-dof locus when the caller gives no count
 SECTION_COUNT = 4
 #: finite-difference step of ∇s (dimensionless)
@@ -119,6 +144,11 @@ class LocusPiece:
     section : float or None
         3 dof: the value c of the section coordinate x_c the piece lies in (a displacement from home);
         None for 1 and 2 dof.
+    whole_branch : bool
+        1 dof: the piece is a traced branch of M (or a part of it the classification confirms) along which the
+        kind's sign function vanishes identically: its magnitude (:func:`sign_magnitudes`) is at most
+        :data:`ZERO_TOLERANCE` at every point (e.g. the slider-crank with crank = coupler, whose slider stays at
+        the crank's pivot on one branch: Park & Kim 1999 Fig. 3a; Gosselin & Angeles 1990 eq. 17).
     """
 
     kind: str
@@ -126,6 +156,7 @@ class LocusPiece:
     closed: bool
     residuals: np.ndarray
     section: object = None
+    whole_branch: bool = False
 
 
 @dataclass(frozen=True, eq=False)
@@ -142,10 +173,17 @@ class Loci:
         for 3 dof, or the sampled points).
     sample_signs : ndarray, shape=[n, 2]
         The signs of s_a and s_e at the samples (0 where not defined): the assembly and working modes.
+    sample_branches : ndarray of int, shape=[n]
+        2 dof: the assembly branch of the grid each sample is on (0 the start's; others with
+        ``assembly_branches`` > 1 in :func:`trace_loci`); 1 and 3 dof: 0.
     coverage : dict
         ``dof``, ``grid`` (names and counts, 2 and 3 dof), ``reached`` grid points, ``seeds``, ``pieces``,
         ``closed`` per piece, ``unconfirmed`` (points dropped per kind), ``not_traced`` (kinds and why),
-        ``tolerance``, ``step``; 3 dof: ``section`` ({name: [a, b, n]}) and ``sections`` (per section its
+        ``tolerance``, ``step``; 2 and 3 dof: ``start`` (``singular``, ``moved``, ``margin``, ``tolerance``:
+        :meth:`classify.grid_continuation.StartingPoint.to_dict`); 2 dof with ``assembly_branches`` > 1:
+        ``assembly_branches`` (``found``, ``reached`` per branch, ``solutions`` the probes found, ``asked``); 1 dof:
+        ``whole_branch`` (per branch singular everywhere: ``kind``, ``branch``, ``points``, ``largest``
+        magnitude, ``tolerance``); 3 dof: ``section`` ({name: [a, b, n]}) and ``sections`` (per section its
         ``value``, grid points ``reached``, ``seeds`` and ``pieces`` per kind); 1 and 2 dof with ``cspace``:
         ``cspace_search`` (``seeds``, ``found``, ``confirmed``); redundant actuation: ``actuator_search`` (the same).
     """
@@ -155,6 +193,7 @@ class Loci:
     samples: np.ndarray
     sample_signs: np.ndarray
     coverage: dict = field(default_factory=dict)
+    sample_branches: np.ndarray = None
 
 
 # ------------------------------------------------------------------------------------------------ sign functions
@@ -187,6 +226,49 @@ def sign_functions(model, point):
     refused : dict of str to str
         Kind → why it has no sign function.
     """
+    matrices, refused = _sign_matrices(model, point)
+    return {kind: _determinant(matrix) for kind, matrix in matrices.items()}, refused
+
+
+def sign_magnitudes(model, point):
+    """The scale-aware magnitudes of the sign functions: ``|det A| / ∏ ‖A_i‖`` (Hadamard's ratio of the square
+    matrix A of :func:`sign_functions`, rows A_i), in [0, 1] whatever the rows' lengths, 0 exactly where s is.
+
+    A sign function is taken to vanish at a configuration where its magnitude
+    is at most :data:`ZERO_TOLERANCE` (a zero at a sample of a branch or grid,
+    and a branch of M along which it vanishes identically, see
+    :func:`trace_loci`).
+
+    Parameters
+    ----------
+    model : Model
+    point : ndarray, shape=[point_size]
+        A regular configuration of M (fixes the kept constraint rows, as :func:`sign_functions`).
+
+    Returns
+    -------
+    dict of str to callable
+        Kind → ``magnitude(points [n, point_size]) -> values [n]``.
+    """
+    matrices, _ = _sign_matrices(model, point)
+    return {kind: _hadamard_ratio(matrix) for kind, matrix in matrices.items()}
+
+
+def _determinant(matrix):
+    return lambda points: np.linalg.det(matrix(points))
+
+
+def _hadamard_ratio(matrix):
+    def magnitude(points):
+        values = matrix(points)
+        lengths = np.prod(np.linalg.norm(values, axis=-1), axis=-1)
+        return np.abs(np.linalg.det(values)) / np.maximum(lengths, 1e-300)
+    return magnitude
+
+
+def _sign_matrices(model, point):
+    """The square matrices of the sign functions (kind → ``matrix(points [n, point_size]) -> [n, k, k]``) and
+    the kinds refused, with why."""
     from .survey import unit_actuator_rows
 
     manifold = model.manifold
@@ -200,8 +282,8 @@ def sign_functions(model, point):
 
     actuators = unit_actuator_rows(model)[0] * scales
     if len(rows) + len(actuators) == k:
-        functions["actuator"] = lambda points: np.linalg.det(np.concatenate(
-            [constraint_rows(points), np.broadcast_to(actuators, np.shape(points)[:-1] + actuators.shape)], axis=-2))
+        functions["actuator"] = lambda points: np.concatenate(
+            [constraint_rows(points), np.broadcast_to(actuators, np.shape(points)[:-1] + actuators.shape)], axis=-2)
     else:
         refused["actuator"] = (f"{len(actuators)} actuated coordinate(s) for {k - len(rows)} degree(s) of freedom: "
                                f"no square matrix")
@@ -213,8 +295,7 @@ def sign_functions(model, point):
         def end_effector(points):
             jacobian = np.asarray(model.end_effector_jacobian(points), dtype=float)[..., outputs, :] * scales
             size = np.linalg.norm(jacobian, axis=(-2, -1), keepdims=True)
-            return np.linalg.det(np.concatenate([constraint_rows(points), jacobian / np.maximum(size, 1e-300)],
-                                                axis=-2))
+            return np.concatenate([constraint_rows(points), jacobian / np.maximum(size, 1e-300)], axis=-2)
         functions["end_effector"] = end_effector
     elif n:
         refused["end_effector"] = f"{n} end-effector coordinate(s) for {dof} degree(s) of freedom"
@@ -550,13 +631,14 @@ def _trace_from_seeds(curve, seeds, step):
 
 # ------------------------------------------------------------------------------------------------ seeds
 
-def _grid_seeds(points, reached, shape, values):
-    """The seed points of a 2-D grid: per kind, the endpoint of smaller |s| of each sign-changing edge, and the
-    reached end of each edge to an unreached point (for every kind)."""
+def _grid_seeds(points, reached, shape, values, zeros=None):
+    """The seed points of a 2-D grid: per kind, the reached points where s vanishes (`zeros`, kind → bool [n]),
+    the endpoint of smaller |s| of each sign-changing edge, and the reached end of each edge to an unreached point
+    (for every kind)."""
     from .grid_continuation import grid_neighbours
 
     neighbours = grid_neighbours(shape)
-    seeds = {kind: [] for kind in values}
+    seeds = {kind: list(points[reached & zeros[kind]]) if zeros else [] for kind in values}
     for index in np.flatnonzero(reached):
         for other in neighbours[index, 1::2]:  # one step forward along each axis
             if other < 0:
@@ -575,16 +657,22 @@ def _grid_seeds(points, reached, shape, values):
     return {kind: np.array(found).reshape(-1, points.shape[-1]) for kind, found in seeds.items()}
 
 
-def _sign_changes(curve_points, function):
-    """Points of a traced curve just before a sign change of s, shape=[n, point_size]."""
+def _sign_changes(curve_points, function, magnitude, closed):
+    """Points of a traced curve just before a sign change of s (a closed curve: also from its last point to its
+    first), and those where s vanishes (its magnitude at most :data:`ZERO_TOLERANCE`, where the sign of s is
+    rounding), shape=[n, point_size]."""
     values = function(curve_points)
-    change = np.flatnonzero(values[:-1] * values[1:] < 0)
+    following = np.roll(values, -1)
+    change = values * following < 0
+    if not closed:
+        change[-1] = False
+    change |= magnitude(curve_points) <= ZERO_TOLERANCE
     return curve_points[change]
 
 
 # ------------------------------------------------------------------------------------------------ confirmation
 
-def _confirmed(model, survey, kind, points, residuals, closed, section=None):
+def _confirmed(model, survey, kind, points, residuals, closed, section=None, whole_branch=False):
     """Split a traced curve where `classify` does not confirm the kind; (pieces, dropped, cspace points)."""
     from .batch import classify_many
     from .report import KINDS
@@ -596,7 +684,8 @@ def _confirmed(model, survey, kind, points, residuals, closed, section=None):
     runs = np.split(np.arange(len(points)), np.flatnonzero(np.diff(good.astype(int)) != 0) + 1)
     for run in runs:
         if len(run) and good[run[0]]:
-            pieces.append(LocusPiece(kind, points[run], bool(closed and good.all()), residuals[run], section))
+            pieces.append(LocusPiece(kind, points[run], bool(closed and good.all()), residuals[run], section,
+                                     whole_branch))
     return pieces, int((~good).sum()), cspace
 
 
@@ -607,7 +696,7 @@ def _residuals(curve, points):
 # ------------------------------------------------------------------------------------------------ entry point
 
 def trace_loci(mechanism, start, columns=None, ranges=None, counts=(24, 24), kinds=("actuator", "end_effector"),
-               rng=None, survey=None, sample_count=24):
+               rng=None, survey=None, sample_count=24, assembly_branches=1):
     """Trace the singularity loci of a 1-, 2- or 3-dof mechanism (see the module notes).
 
     Parameters
@@ -633,6 +722,11 @@ def trace_loci(mechanism, start, columns=None, ranges=None, counts=(24, 24), kin
         The model's survey (default computed once per model).
     sample_count : int
         1 dof: random points projected onto M, and random-walk steps, to find its branches.
+    assembly_branches : int
+        2 dof: the most assembly branches the grid is assembled on
+        (:func:`classify.grid_continuation.assemble_branches`: the start's, then those the loops' solutions from
+        random values at a few grid points lead to, drawn from `rng`); the loci are traced from the seeds of all
+        of them. Default 1: the start's branch only.
 
     Returns
     -------
@@ -652,7 +746,9 @@ def trace_loci(mechanism, start, columns=None, ranges=None, counts=(24, 24), kin
     dof = int(ambient.dim - survey.constraint_rank)
     if dof not in (1, 2, 3):
         raise ValueError(f"loci are traced for 1-, 2- and 3-dof mechanisms; this one has {dof} dof")
-    functions, refused = sign_functions(model, _regular_reference(model, survey, start, rng))
+    reference = _regular_reference(model, survey, start, rng)
+    functions, refused = sign_functions(model, reference)
+    magnitudes = sign_magnitudes(model, reference)
     redundant = len(model.actuators) > dof  # more actuated coordinates than degrees of freedom
     traced_kinds = [kind for kind in TRACEABLE_KINDS if kind in functions
                     and (kind in kinds or "cspace" in kinds)]
@@ -662,12 +758,15 @@ def trace_loci(mechanism, start, columns=None, ranges=None, counts=(24, 24), kin
 
     if dof in (2, 3):
         columns, ranges, counts = _grid_arguments(mechanism, start, columns, ranges, counts, dof)
-        grid, reached, step = _trace_sections(mechanism, model, survey, start, columns, ranges, counts, functions,
-                                              traced_kinds, kinds, coverage, pieces, unconfirmed, branch_points)
-        samples = grid[reached]
+        grids, masks, step = _trace_sections(mechanism, model, survey, start, columns, ranges, counts, functions,
+                                             magnitudes, traced_kinds, kinds, coverage, pieces, unconfirmed,
+                                             branch_points, assembly_branches if dof == 2 else 1, rng)
+        samples = np.concatenate([grid[mask] for grid, mask in zip(grids, masks)])
+        sample_branches = np.concatenate([np.full(int(mask.sum()), branch) for branch, mask in enumerate(masks)])
 
         def minima(function):
-            return _grid_minima(function, grid, reached, tuple(counts))
+            return np.concatenate([_grid_minima(function, grid, mask, tuple(counts))
+                                   for grid, mask in zip(grids, masks)])
     else:
         samples = sample_manifold(manifold, rng, start[None], random_count=sample_count, walk_count=sample_count)
         step = 0.05
@@ -675,9 +774,24 @@ def trace_loci(mechanism, start, columns=None, ranges=None, counts=(24, 24), kin
         traced = _trace_from_seeds(manifold, samples, step)
         for index, (points, closed) in enumerate(traced):
             branches.append(LocusPiece("branch", points, closed, _residuals(manifold, points)))
+        whole_branches = []
         for kind in traced_kinds:
             curve = _curve_manifold(model, functions[kind])
-            candidates = [candidate for points, _ in traced for candidate in _sign_changes(points, functions[kind])]
+            candidates = []
+            for index, (points, closed) in enumerate(traced):
+                magnitude = magnitudes[kind](points)
+                if magnitude.max() > ZERO_TOLERANCE:
+                    candidates += list(_sign_changes(points, functions[kind], magnitudes[kind], closed))
+                    continue
+                # s vanishes identically along this branch: the whole branch is the locus
+                found, dropped, cspace = _confirmed(model, survey, kind, points, _residuals(curve, points), closed,
+                                                    whole_branch=True)
+                unconfirmed[kind] = unconfirmed.get(kind, 0) + dropped
+                branch_points += list(cspace)
+                whole_branches.append({"kind": kind, "branch": index, "points": int(len(points)),
+                                       "largest": float(magnitude.max()), "tolerance": ZERO_TOLERANCE})
+                if kind in kinds:
+                    pieces += found
             found_points = []
             for candidate in candidates:
                 on = _correct(curve, candidate, max_step=4 * step * ambient.tangent_scales.max())
@@ -691,6 +805,7 @@ def trace_loci(mechanism, start, columns=None, ranges=None, counts=(24, 24), kin
                 if kind in kinds:
                     pieces += found
         coverage["branches"] = len(branches)
+        coverage["whole_branch"] = [record for record in whole_branches if record["kind"] in kinds]
         coverage["branches_closed"] = [branch.closed for branch in branches]
 
         def minima(function):
@@ -718,32 +833,50 @@ def trace_loci(mechanism, start, columns=None, ranges=None, counts=(24, 24), kin
             signs[:, column] = np.sign(functions[kind](samples))
     coverage.update({"pieces": {kind: sum(piece.kind == kind for piece in pieces) for kind in kinds},
                      "closed": [piece.closed for piece in pieces], "unconfirmed": unconfirmed})
-    return Loci(tuple(pieces), tuple(branches), samples, signs, coverage)
+    if dof == 1:
+        sample_branches = np.zeros(len(samples), dtype=int)
+    return Loci(tuple(pieces), tuple(branches), samples, signs, coverage, sample_branches.astype(int))
 
 
-def _trace_sections(mechanism, model, survey, start, columns, ranges, counts, functions, traced_kinds, kinds,
-                    coverage, pieces, unconfirmed, branch_points):
-    """2 and 3 dof: the grid assembled, its seeds, and the curves traced from them, section by section (one
-    section, without a section constraint, for 2 dof); fills `coverage`, `pieces`, `unconfirmed`,
-    `branch_points`; returns (reached samples [n, point_size], reached [grid points], step)."""
+def _trace_sections(mechanism, model, survey, start, columns, ranges, counts, functions, magnitudes, traced_kinds,
+                    kinds, coverage, pieces, unconfirmed, branch_points, assembly_branches=1, rng=None):
+    """2 and 3 dof: the grid assembled (on up to `assembly_branches` branches), its seeds, and the curves traced
+    from them, section by section (one section, without a section constraint, for 2 dof); fills `coverage`,
+    `pieces`, `unconfirmed`, `branch_points`; returns (grid points per branch [b, n, point_size], reached
+    [b, n], step)."""
     ambient = model.manifold.ambient
-    samples, reached = _assembled_grid(mechanism, start, columns[2:] + columns[:2], ranges[2:] + ranges[:2],
-                                       counts[2:] + counts[:2])
+    grids, masks, starting, solutions = _assembled_grid(mechanism, start, columns[2:] + columns[:2],
+                                                        ranges[2:] + ranges[:2], counts[2:] + counts[:2],
+                                                        assembly_branches, rng)
+    coverage["start"] = starting.to_dict()
+    if assembly_branches > 1:
+        coverage["assembly_branches"] = {"found": int(len(grids)), "reached": [int(mask.sum()) for mask in masks],
+                                         "solutions": int(solutions), "asked": int(assembly_branches)}
     spacing = min((high - low) / max(count - 1, 1) / ambient.tangent_scales[column]
                   for column, (low, high), count in zip(columns[:2], ranges[:2], counts[:2]))
     step = spacing / 2
-    full_values = {kind: np.zeros(len(samples)) for kind in traced_kinds}
+    full_values = {kind: np.zeros(masks.shape) for kind in traced_kinds}
+    zeros = {kind: np.zeros(masks.shape, dtype=bool) for kind in traced_kinds}
     for kind in traced_kinds:
-        if reached.any():
-            full_values[kind][reached] = functions[kind](samples[reached])
+        for branch, (samples, reached) in enumerate(zip(grids, masks)):
+            if reached.any():
+                full_values[kind][branch, reached] = functions[kind](samples[reached])
+                zeros[kind][branch, reached] = magnitudes[kind](samples[reached]) <= ZERO_TOLERANCE
+    reached, samples = masks.any(axis=0), grids[0]
     sections = [None] if len(columns) == 2 else np.linspace(ranges[2][0], ranges[2][1], counts[2]).tolist()
     size = counts[0] * counts[1]
     seed_counts = {kind: 0 for kind in traced_kinds}
     per_section = []
     for index, value in enumerate(sections):
         part = slice(index * size, (index + 1) * size)
-        seeds = _grid_seeds(np.nan_to_num(samples[part]), reached[part], tuple(counts[:2]),
-                            {kind: full_values[kind][part] for kind in traced_kinds})
+        seeds = {kind: [] for kind in traced_kinds}
+        for branch, (branch_samples, branch_reached) in enumerate(zip(grids, masks)):
+            found = _grid_seeds(np.nan_to_num(branch_samples[part]), branch_reached[part], tuple(counts[:2]),
+                                {kind: full_values[kind][branch, part] for kind in traced_kinds},
+                                {kind: zeros[kind][branch, part] for kind in traced_kinds})
+            for kind in traced_kinds:
+                seeds[kind].append(found[kind])
+        seeds = {kind: np.concatenate(found) for kind, found in seeds.items()}
         section = None if value is None else _section_function(mechanism, columns[2], value)
         found_here = {kind: 0 for kind in kinds}
         for kind in traced_kinds:
@@ -764,12 +897,12 @@ def _trace_sections(mechanism, model, survey, start, columns, ranges, counts, fu
     names = [mechanism.coordinate_names[column] for column in columns]
     coverage.update({"grid": {name: [low, high, count] for name, (low, high), count
                               in zip(names[:2], ranges[:2], counts[:2])},
-                     "reached": int(reached.sum()), "grid_points": int(len(samples)),
+                     "reached": int(masks[0].sum()), "grid_points": int(len(samples)),
                      "seeds": {kind: int(count) for kind, count in seed_counts.items()}, "step": step})
     if len(columns) == 3:
         coverage["section"] = {names[2]: [ranges[2][0], ranges[2][1], counts[2]]}
         coverage["sections"] = per_section
-    return samples, reached, step
+    return grids, masks, step
 
 
 def _section_of(mechanism, columns, coverage, point):
@@ -885,15 +1018,20 @@ def _is_angle(mechanism, column):
     return False
 
 
-def _assembled_grid(mechanism, start, columns, ranges, counts):
-    """The grid assembled by continuation from `start` (:func:`classify.grid_continuation.assemble_grid`)."""
-    from .grid_continuation import Grid, assemble_grid, grid_targets, held_columns
+def _assembled_grid(mechanism, start, columns, ranges, counts, assembly_branches=1, rng=None):
+    """The grid assembled by continuation from `start` (:func:`classify.grid_continuation.assemble_branches`; a
+    singular start reaching nothing: from its regular neighbour); (points [b, n, point_size], reached [b, n],
+    StartingPoint, distinct solutions the probes found)."""
+    from .grid_continuation import Grid, assemble_branches, grid_targets, held_columns
 
     grid = Grid(tuple(mechanism.coordinate_names[column] for column in columns), tuple(columns),
                 tuple(low for low, _ in ranges), tuple(high for _, high in ranges), tuple(counts))
     targets = grid_targets(mechanism, grid, start)
-    points, reached = assemble_grid(mechanism, start, targets, grid.shape, held_columns(mechanism, grid, False))
-    return points, np.asarray(reached, dtype=bool)
+    rng = np.random.default_rng(0) if rng is None else rng
+    points, reached, starting, solutions = assemble_branches(mechanism, start, targets, grid.shape,
+                                                             held_columns(mechanism, grid, False),
+                                                             assembly_branches, rng)
+    return points, np.asarray(reached, dtype=bool), starting, solutions
 
 
 # ------------------------------------------------------------------------------------------------ coordinates

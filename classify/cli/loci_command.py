@@ -26,13 +26,22 @@ actuated coordinate and the next one (1 dof).
 
 ``--format json``: ``{"mechanism", "source", "coordinates": [names],
 "pieces": [{"kind", "closed", "configurations": [{joint: displacement}],
-"coordinates": [[...]], "residuals": [...]}], "branches": [...same, 1 dof],
+"coordinates": [[...]], "residuals": [...], "whole_branch"}], "branches": [...same, 1 dof],
 "coverage": {...}}``; 3 dof: each piece also has its ``"section"`` (the
 section coordinate's value, a displacement from home), and the coverage
 ``"section": {name: [a, b, n]}`` and ``"sections": [{"value", "reached",
-"seeds", "pieces"}]``. Each configuration is given as joint displacements
+"seeds", "pieces"}]``. 1 dof: ``"whole_branch": true`` marks a piece that is
+a whole branch of M along which the kind's sign function vanishes
+identically, and the coverage's ``"whole_branch": [{"kind", "branch",
+"points", "largest", "tolerance"}]`` gives the largest magnitude of the sign
+function along it (:func:`classify.loci.sign_magnitudes`) against the
+tolerance. Each configuration is given as joint displacements
 from the mechanism's home exactly as ``--at`` takes them, so
 ``closedchain classify NAME --at '<one of them>'`` reproduces its verdict.
+``--branches N`` (2 dof): the grid assembled on up to N assembly branches
+(:func:`classify.grid_continuation.assemble_branches`), the loci traced on
+all, the map's points coloured by branch; the coverage's
+``"assembly_branches": {"found", "reached", "solutions", "asked"}``.
 ``--out``: the C-space map with the loci overlaid
 (:func:`classify.figures.loci.draw_cspace_map`; 3 dof: the sections stacked
 in 3-D, or, when ``--coordinates`` names two coordinates or a planar
@@ -66,6 +75,9 @@ def add_parser(commands):
     parser.add_argument("--section", default=None, metavar="NAME=a:b:n",
                         help="3 dof: the coordinate held in each section and its values (default the first "
                              "actuated coordinate at 4 values around a turn)")
+    parser.add_argument("--branches", type=int, default=1, metavar="N",
+                        help="2 dof: assemble the grid on up to N assembly branches (the start's, then others found "
+                             "by solving the loops from random values at a few grid points; default 1)")
     parser.add_argument("--out", default=None, metavar="FIG", help="write the C-space map with the loci (.png, "
                                                                    ".svg or .pdf)")
     parser.add_argument("--format", choices=("json", "text"), default="text", help="what is printed (default text)")
@@ -141,7 +153,8 @@ def _piece(mechanism, piece, coordinates):
     values, _ = locus_coordinates(mechanism, piece.points, coordinates)
     entry = {"kind": piece.kind, "closed": piece.closed,
              "configurations": joint_displacements(mechanism, displacements_of(mechanism, piece.points)),
-             "coordinates": values.tolist(), "residuals": piece.residuals.tolist()}
+             "coordinates": values.tolist(), "residuals": piece.residuals.tolist(),
+             "whole_branch": piece.whole_branch}
     if piece.section is not None:
         entry["section"] = piece.section
     return entry
@@ -168,8 +181,23 @@ def _text(document):
         pieces = [piece for piece in document["pieces"] if piece["kind"] == kind]
         closed = sum(piece["closed"] for piece in pieces)
         points = sum(len(piece["configurations"]) for piece in pieces)
+        whole = sum(piece.get("whole_branch", False) for piece in pieces)
         lines.append(f"  {kind.replace('_', '-')}: {count} piece(s), {closed} closed, {points} point(s)"
+                     + (f", {whole} a whole branch of M" if whole else "")
                      + (f"; not traced: {coverage['not_traced'][kind]}" if kind in coverage["not_traced"] else ""))
+    start = coverage.get("start")
+    if start is not None and start["singular"]:
+        lines.append("  the start is singular for the grid's coordinates" + (
+            f": the grid points it leaves were continued from a regular neighbour on M {start['moved']:.3g} away "
+            f"(margin {start['margin']:.2g} > {start['tolerance']:g})" if start["moved"] else ""))
+    if "assembly_branches" in coverage:
+        found = coverage["assembly_branches"]
+        lines.append(f"  assembly branches of the grid: {found['found']} (of at most {found['asked']}), reaching "
+                     + ", ".join(str(count) for count in found["reached"]) + " grid point(s)")
+    for record in coverage.get("whole_branch", ()):
+        lines.append(f"  {record['kind'].replace('_', '-')} singular along the whole branch {record['branch'] + 1}: "
+                     f"the sign function's magnitude at most {record['largest']:.2g} at its {record['points']} "
+                     f"points (tolerance {record['tolerance']:g})")
     if "cspace_search" in coverage:
         search = coverage["cspace_search"]
         lines.append(f"  C-space singularities searched for from {search['seeds']} point(s) where σ_r(DΦ) is "
@@ -201,6 +229,8 @@ def run(arguments, out):
     if arguments.out is not None:
         figure_path(arguments.out)
     kinds = parse_kinds(arguments.kinds)
+    if arguments.branches < 1:
+        raise InputError(f"--branches: at least 1, got {arguments.branches}")
     mechanism, named = source(arguments)
     start = configuration(mechanism, named, where="--configuration").point
     model = model_of(mechanism, arguments.length_scale)
@@ -213,7 +243,7 @@ def run(arguments, out):
     coordinates = _coordinates(arguments.coordinates, mechanism,
                                columns if columns is not None else default_columns(mechanism, dof))
     loci = trace_loci(mechanism, start, columns=columns, ranges=ranges, counts=counts, kinds=kinds,
-                      rng=np.random.default_rng(arguments.seed), survey=survey)
+                      rng=np.random.default_rng(arguments.seed), survey=survey, assembly_branches=arguments.branches)
     from ..loci import locus_coordinates
 
     _, names = locus_coordinates(mechanism, start[None], coordinates)

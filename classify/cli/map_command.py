@@ -17,7 +17,13 @@ when the grid is over actuated coordinates only (as ``closedchain classify
 --assemble``: the inputs not named stay where they are); an S joint with a
 grid coordinate is held whole. A grid point that no continuation from a
 reached neighbour leads to is *unreachable* (outside the inputs' reach on
-this branch, or beyond a fold).
+this branch, or beyond a fold). From a starting configuration singular
+for the held coordinates (e.g. an actuator singularity of a grid over the
+inputs) continuation can reach nothing: the grid points it leaves are then
+started from a regular neighbour on M
+(:func:`classify.grid_continuation.regular_start`), said in the output
+(JSON ``"start": {"singular", "moved", "margin", "tolerance"}``, null with
+``--project``).
 
 Projection (``--project``). Each grid point's configuration (the starting
 configuration with the grid coordinates set) is projected onto M
@@ -34,7 +40,7 @@ and, when reached, the row of :meth:`classify.Classifications.rows` (kinds,
 singular, dof, ranks, expected ranks, margins, λ's, condition number,
 degeneracy) and the displacements of the configuration classified. ``--out``:
 ``.json`` one document ``{"source", "mechanism", "method": "assemble" |
-"project", "held": [coordinate names] | null, "grid": {name: [a, b, n]},
+"project", "held": [coordinate names] | null, "start", "grid": {name: [a, b, n]},
 "shape", "survey", "points": [...], "summary": {"total", "reachable",
 "unreachable", "regular", "cspace", "actuator", "end_effector"}}``; ``.jsonl`` one point per line;
 ``.csv`` one point per row; ``.npz`` arrays shaped like the grid
@@ -122,7 +128,8 @@ def _legend():
 
 
 def _configurations(arguments, mechanism, named, grid):
-    """The grid's configurations: (points [n, point_size], reachable [n], projection distances [n] or None)."""
+    """The grid's configurations: (points [n, point_size], reachable [n], projection distances [n] or None,
+    StartingPoint or None)."""
     import numpy as np
 
     from mechanisms import CLOSURE_TOLERANCE, configuration
@@ -136,14 +143,14 @@ def _configurations(arguments, mechanism, named, grid):
     requested[:, list(grid.columns)] = grid.values().reshape(grid.size, len(grid.columns))
     targets = configurations.points_of(mechanism, requested)
     if arguments.project:
-        return configurations.project_configurations(mechanism, targets, CLOSURE_TOLERANCE)
+        return configurations.project_configurations(mechanism, targets, CLOSURE_TOLERANCE) + (None,)
     bar = progress_bar(grid.size, "assembling", unit="point")
     try:
-        points, reachable = assemble_grid(mechanism, starting.point, targets, grid.shape,
-                                          held_columns(mechanism, grid), bar)
+        points, reachable, starting = assemble_grid(mechanism, starting.point, targets, grid.shape,
+                                                    held_columns(mechanism, grid), bar, with_start=True)
     finally:
         bar.close()
-    return points, reachable, None
+    return points, reachable, None, starting
 
 
 def _entries(mechanism, grid, reachable, result, displacements, distance):
@@ -220,7 +227,7 @@ def run(arguments, out):
     file_format = outputs.output_format(arguments.out) if arguments.out is not None else None
     mechanism, named = source(arguments)
     grid = parse_grid(arguments.grid, mechanism)
-    points, reachable, distance = _configurations(arguments, mechanism, named, grid)
+    points, reachable, distance, starting = _configurations(arguments, mechanism, named, grid)
     model = model_of(mechanism, arguments.length_scale)
     survey = model_survey(arguments.survey, model)
     result = classify_many(model, points[reachable], survey=survey, progress=show_progress())
@@ -229,6 +236,10 @@ def run(arguments, out):
     summary = {"total": grid.size, "reachable": reached, "unreachable": grid.size - reached,
                **outputs.kind_counts(result)}
     summary_text = "map of " + outputs.summary_line(summary, grid.size, "grid points")
+    if starting is not None and starting.singular:
+        summary_text += " (the start is singular for the held coordinates" + (
+            f"; the points it leaves continued from a regular neighbour on M {starting.moved:.3g} away)"
+            if starting.moved else ")")
     if file_format == "npz":
         outputs.write_npz(arguments.out, _arrays(mechanism, grid, points, reachable, result, displacements,
                                                  distance))
@@ -242,6 +253,7 @@ def run(arguments, out):
                                            for column in held_columns(mechanism, grid)]
     document = {"source": describe_source(arguments), "mechanism": mechanism.name,
                 "method": "project" if arguments.project else "assemble", "held": held,
+                "start": None if starting is None else starting.to_dict(),
                 "grid": grid.to_dict(), "shape": list(grid.shape), "survey": result.survey.to_dict(),
                 "points": entries, "summary": summary}
     if file_format is None:

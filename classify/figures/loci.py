@@ -2,7 +2,9 @@
 
 * :func:`draw_loci`: each locus piece as a line (actuator red, end-effector
   blue; gid ``locus:KIND:INDEX``), C-space singularities (branch points) as
-  black crosses (gid ``branch-point:INDEX``).
+  black crosses (gid ``branch-point:INDEX``). A piece that is a whole branch
+  of M singular everywhere (``LocusPiece.whole_branch``) is drawn dashed
+  along the branch (gid ``locus:KIND:INDEX:whole-branch``).
 * :func:`draw_cspace_map`: M itself under the loci. 1 dof: each traced
   branch of M as a line of its own colour (gid ``branch:INDEX``), its
   crossings the branch points (Park & Kim 1999 Fig. 3a, Fig. 4: the two
@@ -11,7 +13,10 @@
   the actuator and end-effector functions (gid ``mode:SA,SE``): the
   assembly modes (sign of det A) and working modes (sign of det B) of
   Chablat, Wenger & Angeles 1998 (Figs. 2–5), with the loci as their
-  boundaries.
+  boundaries. When the grid was assembled on several assembly branches
+  (``trace_loci(..., assembly_branches=n)``), its points are coloured by
+  branch instead (gid ``grid-branch:INDEX``; nested squares where branches
+  share a grid point).
 
 * :func:`draw_sections`: a 3-dof mechanism's loci as a grid of panels, one
   per section (titled with the section coordinate's value), each the C-space
@@ -103,7 +108,8 @@ def draw_sections(mechanism, loci, coordinates, title=None, columns=3):
         axes.set_gid(f"section:{index}")
         chosen = np.abs(offsets[:, index]) < 1e-9
         part = replace(loci, pieces=tuple(piece for piece in loci.pieces if piece.section == value), branches=(),
-                       samples=loci.samples[chosen], sample_signs=loci.sample_signs[chosen])
+                       samples=loci.samples[chosen], sample_signs=loci.sample_signs[chosen],
+                       sample_branches=None if loci.sample_branches is None else loci.sample_branches[chosen])
         draw_cspace_map(mechanism, part, coordinates, axes=axes, title=f"{printable(name)} = {value:.4g}")
         if axes.get_legend() is not None and index:
             axes.get_legend().remove()
@@ -143,10 +149,17 @@ def draw_loci(mechanism, loci, coordinates, axes=None, title=None):
         else:
             style = dict(color=KIND_COLOURS[piece.kind], linewidth=2, gid=f"locus:{piece.kind}:{index}",
                          label=None if piece.kind in labelled else f"{piece.kind.replace('_', '-')} locus")
+            if piece.whole_branch:  # a branch of M singular at every point: drawn along it, dashed
+                style.update(linestyle="--", linewidth=3, gid=f"locus:{piece.kind}:{index}:whole-branch",
+                             label=None if f"{piece.kind}:whole-branch" in labelled
+                             else f"{piece.kind.replace('_', '-')} locus: a whole branch")
+                if piece.closed:
+                    values = np.concatenate([values, values[:1]])
             if len(values) == 1:
                 style.update(linestyle="none", marker="o", markersize=8)
+
             _line(axes, _broken(values, joints), **style)
-        labelled.add(piece.kind)
+        labelled.add(piece.kind + (":whole-branch" if piece.whole_branch else ""))
     if names is None:
         _, names = locus_coordinates(mechanism, loci.samples[:1], coordinates) if len(loci.samples) else (None, ())
     _finish(axes, names, title)
@@ -176,7 +189,16 @@ def draw_cspace_map(mechanism, loci, coordinates, axes=None, title=None):
         values, _ = locus_coordinates(mechanism, branch.points, coordinates)
         _line(axes, _broken(values, joints), color=BRANCH_COLOURS[index % len(BRANCH_COLOURS)], linewidth=5,
               alpha=0.5, gid=f"branch:{index}", label=f"branch {index + 1}" + (" (closed)" if branch.closed else ""))
-    if not loci.branches and len(loci.samples):
+    branch_of = loci.sample_branches
+    several = branch_of is not None and len(branch_of) and branch_of.max() > 0
+    if not loci.branches and several:  # the grid on several assembly branches: coloured by branch, nested squares
+        values, _ = locus_coordinates(mechanism, loci.samples, coordinates)
+        for branch in range(int(branch_of.max()) + 1):
+            chosen = branch_of == branch
+            _line(axes, values[chosen], linestyle="none", marker="s", markersize=max(9 - 2.5 * branch, 3),
+                  color=BRANCH_COLOURS[branch % len(BRANCH_COLOURS)], alpha=0.6, gid=f"grid-branch:{branch}",
+                  label=f"assembly branch {branch + 1}")
+    elif not loci.branches and len(loci.samples):
         values, _ = locus_coordinates(mechanism, loci.samples, coordinates)
         signs = loci.sample_signs.astype(int)
         for pattern, colour in _MODE_COLOURS.items():

@@ -112,3 +112,31 @@ def test_three_dof_text_names_the_sections():
                             "--kinds", "actuator"])
     assert status == 0, err
     assert "(3 dof)" in out and "in 2 section(s) base from 0 to 1" in out and "actuator:" in out
+
+
+def test_whole_branch_in_json_and_text():
+    """Park & Kim 1999 Fig. 3a (crank = coupler): the branch with the slider at the crank's pivot is one
+    end-effector piece marked whole_branch, with its margin in the coverage and the text."""
+    status, out, err = run(["loci", "slider-crank", "--configuration", "fig3a_self_intersection",
+                            "--kinds", "actuator,end_effector", "--format", "json"])
+    assert status == 0, err
+    document = json.loads(out)
+    whole = [piece for piece in document["pieces"] if piece["whole_branch"]]
+    assert len(whole) == 1 and whole[0]["kind"] == "end_effector" and whole[0]["closed"]
+    (record,) = document["coverage"]["whole_branch"]
+    assert record["largest"] < record["tolerance"]
+    status, out, err = run(["loci", "slider-crank", "--configuration", "fig3a_self_intersection",
+                            "--kinds", "actuator,end_effector"])
+    assert status == 0 and "1 a whole branch of M" in out and "singular along the whole branch" in out
+
+
+def test_singular_start_and_assembly_branches_in_the_text():
+    """From the five-bar's actuator singularity (Chablat, Wenger & Angeles 1998 eq. 9) the text says the grid was
+    continued from a regular neighbour; --branches 2 assembles a second branch; --branches 0 is refused."""
+    status, out, err = run(["loci", "five-bar", "--configuration", "eq9_distal_aligned", "--grid", "A=-3:3:5",
+                            "B=-3:3:5", "--kinds", "actuator", "--branches", "2"])
+    assert status == 0, err
+    assert "continued from a regular neighbour on M" in out
+    assert "assembly branches of the grid: 2 (of at most 2)" in out
+    status, _, err = run(["loci", "five-bar", "--branches", "0"])
+    assert status == 2 and "--branches" in err

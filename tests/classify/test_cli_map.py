@@ -308,3 +308,20 @@ def test_a_ball_joint_is_gridded_by_its_coordinates():
     status, _, err = run(["map", "eclipse", "--grid", "ball1=0:1:3"])
     assert status == 2 and err.count("\n") == 1
     assert "joint 'ball1' (S) has 3 coordinates: name one of ball1[x], ball1[y], ball1[z]" in err
+
+
+def test_map_from_an_actuator_singular_start_reaches_the_grid():
+    """Started at the five-bar's actuator singularity (Chablat, Wenger & Angeles 1998 eq. 9: distal links
+    aligned), the continuation starts from a regular neighbour on M, said in the JSON's ``start``, and reaches
+    grid points (none before); every reached point closes the loops at the grid's inputs."""
+    status, out, err = run(["map", "five-bar", "--configuration", "eq9_distal_aligned", "--grid", "A=-3:3:5",
+                            "B=-3:3:5", "--format", "json"])
+    assert status == 0, err
+    document = json.loads(out)
+    start = document["start"]
+    assert start["singular"] and 0 < start["moved"] <= 0.2 and start["margin"] > start["tolerance"]
+    assert document["summary"]["reachable"] > 0
+    status, out, _ = run(["map", "five-bar", "--grid", "A=-3:3:5", "B=-3:3:5", "--format", "json"])
+    assert status == 0 and not json.loads(out)["start"]["singular"]
+    status, out, _ = run(["map", "five-bar", "--grid", "A=-1:1:3", "B=-1:1:3", "--project", "--format", "json"])
+    assert status == 0 and json.loads(out)["start"] is None
