@@ -547,9 +547,8 @@ def _task_pictures(task, reports, seed=0):
     for name, mechanism, point, _ in configurations:
         pictures[task.source, name] = [configuration_picture(mechanism, point, reports[task.source, name],
                                                              f"{task.source}: {name}")]
-    # the loci from the task's first regular configuration (a grid cannot be continued from a singular one)
-    regular = [entry for entry in configurations if not reports[task.source, entry[0]].kinds]
-    name, mechanism, point, _ = (regular or configurations)[0]
+    # the loci from the task's first configuration (from a singular one, the grid starts at a regular neighbour)
+    name, mechanism, point, _ = configurations[0]
     loci = loci_picture(mechanism, point, survey_of(model_of(mechanism)),
                         f"{task.source} at {name}: C-space and singularity loci", seed=seed)
     if loci is not None:
