@@ -12,6 +12,8 @@ survey within a test process. Nothing is lost: a classification is a
 deterministic function of the description (the survey's seed is fixed).
 """
 
+from pathlib import Path
+
 import numpy as np
 from scipy.optimize import least_squares
 
@@ -260,3 +262,14 @@ def ladder(loops, tail=0):
         link = f"tail{index}"
     name = f"ladder of {loops}" if not tail else f"ladder of {loops} loops and {tail} tail joints"
     return Mechanism(name, "planar", joints, end_effector=EndEffector(link, point=(0.5, float(loops + tail))))
+
+
+# --------------------------------------------------------------------------- robot files
+
+#: the robots of tests/data/robots (a URDF with its closures file per folder, an MJCF model)
+ROBOTS = Path(__file__).resolve().parent / "data" / "robots"
+
+
+def robot_arguments(name):
+    """The command-line arguments of a sample robot: its URDF and ``--closures`` file."""
+    return [str(ROBOTS / name / "robot.urdf"), "--closures", str(ROBOTS / name / "robot.yaml")]

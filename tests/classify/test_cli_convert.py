@@ -2,13 +2,12 @@
 that classify the same, URDF written back, and one-line errors (exit 2)."""
 
 import json
-from pathlib import Path
 
 import pytest
 
 from classify.cli import main
+from builders import ROBOTS, robot_arguments
 
-ROBOTS = Path(__file__).resolve().parents[1] / "data" / "robots"
 pytest.importorskip("yourdfpy")
 
 
@@ -18,12 +17,8 @@ def run(arguments, capsys):
     return status, captured.out, captured.err
 
 
-def robot(name):
-    return [str(ROBOTS / name / "robot.urdf"), "--closures", str(ROBOTS / name / "robot.yaml")]
-
-
 def test_classify_urdf_with_closures_json(capsys):
-    status, out, err = run(["classify", *robot("5bar_linkage_iso3d"), "--format", "json"], capsys)
+    status, out, err = run(["classify", *robot_arguments("5bar_linkage_iso3d"), "--format", "json"], capsys)
     assert status == 0, err
     result = json.loads(out)
     assert result["mechanism"] == "5bar_linkage_iso3d" and result["dof"] == 2 and result["kinds"] == []
@@ -33,7 +28,7 @@ def test_classify_urdf_with_closures_json(capsys):
 
 
 def test_classify_urdf_text_states_the_fixed_base_and_the_assembly(capsys):
-    status, out, _ = run(["classify", *robot("5bar_linkage")], capsys)
+    status, out, _ = run(["classify", *robot_arguments("5bar_linkage")], capsys)
     assert status == 0
     assert "imported: base link 'built' fixed as the ground" in out
     assert "imported: assembled from the zero configuration: moved by" in out
@@ -42,9 +37,9 @@ def test_classify_urdf_text_states_the_fixed_base_and_the_assembly(capsys):
 
 def test_convert_writes_a_contract_file_that_classifies_the_same(tmp_path, capsys):
     target = tmp_path / "five.yaml"
-    status, out, err = run(["convert", *robot("5bar_linkage"), "--write", str(target)], capsys)
+    status, out, err = run(["convert", *robot_arguments("5bar_linkage"), "--write", str(target)], capsys)
     assert status == 0, err and "wrote" in out
-    status, direct, _ = run(["classify", *robot("5bar_linkage"), "--format", "json"], capsys)
+    status, direct, _ = run(["classify", *robot_arguments("5bar_linkage"), "--format", "json"], capsys)
     status, converted, _ = run(["classify", str(target), "--format", "json"], capsys)
     direct, converted = json.loads(direct), json.loads(converted)
     for key in ("dof", "kinds", "singular"):
@@ -77,11 +72,11 @@ def test_convert_catalogue_entry_to_urdf_and_back(tmp_path, capsys):
       str(ROBOTS / "5bar_linkage_iso3d" / "robot.yaml")], "unknown frame 'closedloop3D_1B'"),
     (["classify", "five-bar", "--closures", "x.yaml"], "--closures: applies to a URDF input"),
     (["convert", "five-bar", "--write", "out.txt"], "--write: expected"),
-    (["classify", *robot("5bar_linkage"), "--param", "a=1"], "--param: does not apply"),
+    (["classify", *robot_arguments("5bar_linkage"), "--param", "a=1"], "--param: does not apply"),
     (["classify", str(ROBOTS / "5bar_linkage" / "robot.urdf"), "--closures",
       str(ROBOTS.parents[2] / "examples" / "five_bar.yaml")], "five_bar.yaml: not a closures file: it has keys 'name', "),  # wrong shape
-    (["classify", *robot("cannot_close")], "loop 2 ['coupler_tip', 'follower_tip']"),
-    (["convert", *robot("leg_floating")[:1], "--closures", str(ROBOTS / "leg_floating" / "robot.urdf"),
+    (["classify", *robot_arguments("cannot_close")], "loop 2 ['coupler_tip', 'follower_tip']"),
+    (["convert", *robot_arguments("leg_floating")[:1], "--closures", str(ROBOTS / "leg_floating" / "robot.urdf"),
       "--write", "x.yaml"], "robot.urdf: cannot parse YAML"),  # a URDF given as the closures
 ])
 def test_bad_input_exits_2_with_one_line(arguments, message, capsys):
@@ -91,7 +86,7 @@ def test_bad_input_exits_2_with_one_line(arguments, message, capsys):
 
 
 def test_compare_an_imported_robot_with_joint_outputs(capsys):
-    status, out, err = run(["compare", *robot("5bar_linkage_iso3d"), "--outputs", "free1,free2", "--format", "json"],
+    status, out, err = run(["compare", *robot_arguments("5bar_linkage_iso3d"), "--outputs", "free1,free2", "--format", "json"],
                            capsys)
     assert status == 0, err
     result = json.loads(out)

@@ -10,8 +10,8 @@ import pytest
 
 from classify.cli import main
 from classify.cli.report_command import _configurations, _Task
+from builders import ROBOTS, robot_arguments
 
-ROBOTS = Path(__file__).resolve().parents[1] / "data" / "robots"
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 
 pytest.importorskip("yourdfpy")
@@ -23,12 +23,8 @@ def run(arguments, capsys):
     return status, captured.out, captured.err
 
 
-def robot(name):
-    return [str(ROBOTS / name / "robot.urdf"), "--closures", str(ROBOTS / name / "robot.yaml")]
-
-
 def test_report_on_a_urdf_with_closures_gives_one_row_at_the_closed_configuration(capsys):
-    status, out, err = run(["report", *robot("5bar_linkage_iso3d"), "--format", "json", "--jobs", "1"], capsys)
+    status, out, err = run(["report", *robot_arguments("5bar_linkage_iso3d"), "--format", "json", "--jobs", "1"], capsys)
     assert status == 0, err
     (row,) = json.loads(out)
     assert row["source"] == str(ROBOTS / "5bar_linkage_iso3d" / "robot.urdf") and row["configuration_name"] == "home"
@@ -38,7 +34,7 @@ def test_report_on_a_urdf_with_closures_gives_one_row_at_the_closed_configuratio
 
 
 def test_report_text_on_a_urdf_states_the_import(capsys):
-    status, out, err = run(["report", *robot("5bar_linkage"), "--jobs", "1"], capsys)
+    status, out, err = run(["report", *robot_arguments("5bar_linkage"), "--jobs", "1"], capsys)
     assert status == 0, err
     assert "  closures: " + str(ROBOTS / "5bar_linkage" / "robot.yaml") in out
     assert "  imported: base link 'built' fixed as the ground" in out
@@ -73,7 +69,7 @@ def test_a_folder_pairs_each_urdf_with_the_yaml_of_its_stem(tmp_path, capsys):
 
 def test_report_html_draws_the_imported_robot(tmp_path, capsys):
     page = tmp_path / "report.html"
-    status, out, err = run(["report", *robot("5bar_linkage"), "--jobs", "1", "--html", str(page),
+    status, out, err = run(["report", *robot_arguments("5bar_linkage"), "--jobs", "1", "--html", str(page),
                             "--output", str(tmp_path / "report.txt")], capsys)
     assert status == 0, err
     document = page.read_text(encoding="utf-8")

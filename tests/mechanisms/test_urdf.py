@@ -2,7 +2,6 @@
 Gepetto example-parallel-robots collection assemble, close and classify; Pinocchio agrees on the ranks; bad input
 is one line naming the field."""
 
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -11,8 +10,8 @@ from classify import classify
 from mechanisms import MechanismError, home
 from mechanisms.closures import Closures, closures_from_dict, read_closures
 from mechanisms.urdf import ASSEMBLY_TOLERANCE, read_urdf
+from builders import ROBOTS
 
-ROBOTS = Path(__file__).resolve().parents[1] / "data" / "robots"
 #: robot -> (C-space dimension, rank DΦ, motors, idle freedoms); the idle freedom of the 5-bar is the spin of the
 #: two coaxial leaf joints welded by its 6d closure; `delta` is hand-made (tests/data/robots/README.md): three
 #: translations and the spins of its six rods about their axes

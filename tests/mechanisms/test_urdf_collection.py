@@ -11,7 +11,6 @@ hand-made reproduction (our own URDF text; the collection's files are not shippe
 """
 
 import dataclasses
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -21,8 +20,8 @@ from classify.cli import main
 from mechanisms import MechanismError, home
 from mechanisms.closures import closures_from_dict, read_closures
 from mechanisms.urdf import ASSEMBLY_TOLERANCE, read_urdf
+from builders import ROBOTS
 
-ROBOTS = Path(__file__).resolve().parents[1] / "data" / "robots"
 WALKER = ROBOTS / "legacy_walker" / "robot.urdf"
 WALKER_CLOSURES = ROBOTS / "legacy_walker" / "robot.yaml"
 

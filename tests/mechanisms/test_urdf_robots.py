@@ -5,7 +5,6 @@ MJCF elements that are not loop closures. Every refusal is one line naming the j
 
 import re
 import shutil
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -15,8 +14,8 @@ from classify.cli import main
 from mechanisms import MechanismError, assemble, home
 from mechanisms.kinematics import link_pose
 from mechanisms.urdf import ASSEMBLY_TOLERANCE, read_urdf
+from builders import ROBOTS
 
-ROBOTS = Path(__file__).resolve().parents[1] / "data" / "robots"
 
 pytest.importorskip("yourdfpy")
 
