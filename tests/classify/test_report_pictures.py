@@ -3,9 +3,6 @@
 import base64
 import re
 
-import numpy as np
-import pytest
-
 from builders import catalogue_mechanism
 from classify import classify, model_of, survey_of
 from classify.cli import main
