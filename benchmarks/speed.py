@@ -371,15 +371,23 @@ def markdown(rows, machine_info, quick, load=None):
 def stage_times(model, points):
     """Seconds per configuration of each array stage of the batched first-order path, timed apart.
 
-    The stages repeat the arithmetic of :func:`classify.classify_many` (its
-    chunk loop runs them once per chunk): Φ and the closure check, DΦ, the
-    singular values of DΦ·diag(s) (its rank) and the complete QR of its
-    transpose (the tangent bases; the full SVD, the other way to get them,
-    for comparison), the actuator block and its singular values, Df, its
-    scale and block singular values, the stacked map (computed only where it
-    can raise the survey's rank), the proper values.
+    The stages call what :func:`classify.classify_many` calls (its chunk
+    loop runs them once per chunk): Φ, the closure check and DΦ from one
+    pass over the loops (:func:`mechanisms.closure_and_jacobian`: planar
+    chains in complex form, spherical and spatial ones from prefix products
+    only), the singular values of DΦ·diag(s) (one-sided Jacobi up to four
+    rows, beyond them the eigenvalues of the Gram matrix where certified;
+    the generic LAPACK call for comparison), the kernel
+    bases (block-arrow solves where the loops allow, else the complete QR of
+    the transpose; the full SVD, the generic way, for comparison), the
+    actuator block and its singular values, Df, its scale and block singular
+    values, the stacked map (computed only where it can raise the survey's
+    rank), the proper values.
     """
-    from classify.metrics import metric_root, proper_values, unit_rows
+    from classify.batch import _arrow_structure, _constraint_values, _kernel_bases
+    from manifold import DEFAULT_RTOL
+    from classify.metrics import metric_root, proper_values, singular_values, unit_rows
+    from mechanisms import closure_and_jacobian
 
     manifold = model.manifold
     count = len(points)
@@ -394,33 +402,36 @@ def stage_times(model, points):
         stages[name] = timed(function, repeats=repeats)[0] / count
         return function()
 
-    stage("[part of the next] Φ alone (constraint)", lambda: manifold.constraint(points))
-    stage("closure check: Φ, |Φ| and is_solution (which recomputes the loop products)",
-          lambda: (np.linalg.norm(manifold.constraint(points), axis=-1),
-                   manifold.is_solution(points) if manifold.is_solution is not None else None))
-    jacobian = stage("DΦ·diag(s) (constraint_jacobian)", lambda: scaled_jacobian(manifold, points))
-    stage("σ(DΦ·diag(s)), values only (its rank)", lambda: np.linalg.svd(jacobian, compute_uv=False))
-    orthogonal = stage("complete QR of (DΦ·diag(s))ᵀ (tangent bases)",
-                       lambda: np.linalg.qr(np.swapaxes(jacobian, -1, -2), mode="complete")[0])
+    rows, turns, jacobian = stage("Φ, closure check and DΦ in one pass (closure_and_jacobian)",
+                                  lambda: closure_and_jacobian(model.mechanism, points))
+    jacobian = jacobian * scales
+    stage("σ(DΦ·diag(s)) and its cut (Jacobi up to 4 rows, else the certified Gram eigenvalues)",
+          lambda: _constraint_values(jacobian, DEFAULT_RTOL))
+    stage("[not in the path] numpy.linalg.svd of DΦ·diag(s), values only",
+          lambda: np.linalg.svd(jacobian, compute_uv=False))
+    structure = _arrow_structure(model)
+    basis = stage("kernel bases (" + ("block-arrow solves and a k×m QR" if structure is not None
+                                      else "complete QR of the transpose") + ")",
+                  lambda: _kernel_bases(jacobian, rank, structure))
     stage("[not in the path] full SVD of DΦ·diag(s)", lambda: np.linalg.svd(jacobian, full_matrices=True))
-    basis = scales[:, None] * orthogonal[:, :, rank:]
+    basis = scales[:, None] * basis
     unit_actuators = unit_rows(model.actuators, scales)
     actuator_block = unit_actuators @ basis
-    stage("actuator block A·T and its singular values",
-          lambda: np.linalg.svd(unit_actuators @ basis, compute_uv=False))
+    stage("actuator block A·T and its singular values", lambda: singular_values(unit_actuators @ basis))
     n = model.end_effector_dimension
     if n:
         end_effector = stage("Df (end_effector_jacobian)",
                              lambda: np.broadcast_to(model.end_effector_jacobian(points), (count, n, k)))
         root = metric_root(model.end_effector_metric)
         rows = root @ end_effector
-        stage("end-effector scale σ₁(H½ Df·diag(s))", lambda: np.linalg.svd(rows * scales, compute_uv=False))
+        stage("end-effector scale σ₁(H½ Df·diag(s)) (all values, an upper bound of the path's cost)",
+              lambda: singular_values(rows * scales))
         block = rows @ basis
-        stage("end-effector block H½ Df T and its singular values", lambda: np.linalg.svd(block, compute_uv=False))
+        stage("end-effector block H½ Df T and its singular values", lambda: singular_values(block))
         skipped = "" if survey.joint_rank < dof else " [skipped: cannot raise the survey's rank]"
         stage("stacked map singular values" + skipped,
-              lambda: np.linalg.svd(np.concatenate([actuator_block, block], axis=1), compute_uv=False))
-        stage("proper values (QR, solve, SVD)",
+              lambda: singular_values(np.concatenate([actuator_block, block], axis=1)))
+        stage("proper values (QR, solve, singular values)",
               lambda: proper_values(model.actuators @ basis, end_effector @ basis, model.end_effector_metric,
                                     min(n, dof)))
     return stages

@@ -15,12 +15,22 @@ is a batched singular-value decomposition:
   (:func:`classify.metrics.proper_values`).
 
 Each is the decision :func:`classify.classify` takes one configuration at a
-time, with the same cuts. What is not array work runs only where it is
+time, with the same cuts. Where the structure allows, the arithmetic is
+cheaper than one LAPACK call per matrix: singular values of matrices of 2
+rows in closed form and of 3 or 4 rows by one-sided Jacobi sweeps over the
+whole stack (:func:`classify.metrics.singular_values`), recomputed by LAPACK
+wherever one lies near its cut (:func:`_certified`, so no decision depends on
+the method); the kernel bases of loops that each own as many coordinates as
+they have rows (Gough–Stewart, 3-RRR) from small solves per loop
+(:class:`ArrowStructure`), where those blocks are well conditioned.
+
+What is not array work runs only where it is
 needed, through :func:`classify.classify` itself: at a configuration where DΦ
 has less than the survey's largest rank (a C-space singularity needs
 neighbours on M) and at an actuator singularity (the second-order test and
 the fibre certificate). So the batch equals repeated single calls, item by
-item, by construction there and by the same arithmetic elsewhere.
+item, by construction there and elsewhere by the same decisions on values
+that agree to rounding.
 """
 
 from __future__ import annotations
@@ -34,7 +44,7 @@ from manifold import DEFAULT_ATOL, DEFAULT_RTOL
 from mechanisms import CLOSURE_TOLERANCE, ConfigurationError, Mechanism, closure_and_jacobian
 
 from .classification import classify
-from .metrics import metric_root, proper_values, singular_values
+from .metrics import JACOBI_ROWS, JACOBI_STACK, metric_root, proper_values, singular_values
 from .model import model_of
 from .progress import progress_bar
 from .report import KINDS
@@ -241,11 +251,12 @@ def classify_many(mechanism, points, survey=None, rtol=DEFAULT_RTOL, length_scal
     survey = survey_of(model, rtol) if survey is None else survey
     starts = range(0, len(flat), int(chunk))
     bar = progress_bar(len(flat), "classifying", shown=progress)
-    parts = []
+    columns = _empty_columns(model, len(flat))
+    columns["full"] = np.zeros(len(flat), dtype=bool)
     for start in starts:
-        parts.append(_first_order(model, flat[start:start + int(chunk)], survey, rtol, offset=start))
-        bar.update(len(parts[-1]["dof"]))
-    columns = _concatenated(parts, model, len(flat))
+        stop = min(start + int(chunk), len(flat))
+        _first_order(model, flat[start:stop], survey, rtol, offset=start, columns=_rows_of(columns, start, stop))
+        bar.update(stop - start)
     bar.close()
     result = Classifications(
         mechanism=model.name, shape=shape, points=flat, singular=columns["singular"], dof=columns["dof"],
@@ -304,44 +315,216 @@ def _closure_and_jacobian(model, points, offset):
     return np.asarray(jacobian, dtype=float) * manifold.ambient.tangent_scales
 
 
-def _first_order(model, points, survey, rtol, offset):
-    """Columns of the first-order classification of a chunk of configurations (see the module notes)."""
+def _first_order(model, points, survey, rtol, offset, columns=None):
+    """Columns of the first-order classification of a chunk of configurations (see the module notes),
+    written into `columns` (views of the whole stack's, :func:`_rows_of`) when given."""
     jacobian = _closure_and_jacobian(model, points, offset)
     count = len(points)
     scales = model.manifold.ambient.tangent_scales
-    constraint_values = singular_values(jacobian)
-    constraint_tolerance = np.maximum(rtol * (constraint_values[:, 0] if constraint_values.shape[1] else 0.0),
-                                      DEFAULT_ATOL)
+    constraint_values, constraint_tolerance = _constraint_values(jacobian, rtol)
     constraint_ranks, constraint_margins = _decisions(constraint_values, constraint_tolerance)
     # below the survey's largest rank of DΦ: a possible C-space singularity, classified one at a time
     full = constraint_ranks < survey.constraint_rank
-    columns = _empty_columns(model, count)
+    if columns is None:
+        columns = _empty_columns(model, count)
+        columns["full"] = np.zeros(count, dtype=bool)
     columns["ranks"]["cspace"][:] = constraint_ranks
     columns["margins"]["cspace"][:] = constraint_margins
     columns["tolerances"]["cspace"][:] = constraint_tolerance
     regular = np.flatnonzero(~full)
+    structure = _arrow_structure(model)
     for rank in np.unique(constraint_ranks[regular]):
         group = regular[constraint_ranks[regular] == rank]
-        basis = scales[:, None] * _kernel_bases(jacobian[group], int(rank))  # [g, k, m]
+        basis = scales[:, None] * _kernel_bases(jacobian[group], int(rank), structure)  # [g, k, m]
         _regular_columns(model, points[group], basis, int(rank), survey, rtol, columns, group)
-    columns["full"] = full | columns["singular"][:, KINDS.index("actuator")]
+    columns["full"][:] = full | columns["singular"][:, KINDS.index("actuator")]
     return columns
 
 
-def _kernel_bases(matrices, rank):
+#: relative band around a rank cut where singular values are recomputed by LAPACK, as a single call does
+CUT_BAND = 1e-8
+
+
+#: the largest bound on the relative error of a singular value from the Gram matrix (:func:`_gram_values`)
+GRAM_ACCURACY = 1e-10
+
+
+def _constraint_values(jacobian, rtol):
+    """Singular values of DΦ·diag(s) and the cut of its rank, shape=[b, min(c, k)] and [b]
+    (:func:`classify.metrics.singular_values`: closed forms and Jacobi for small matrices; for
+    larger ones :func:`_gram_values` where it is certified accurate, LAPACK elsewhere;
+    :func:`_certified` near the cut)."""
+    count, rows, columns = jacobian.shape
+    if JACOBI_ROWS < rows <= columns and count >= JACOBI_STACK:
+        values = _gram_values(jacobian)
+    else:
+        values = singular_values(jacobian)
+    values = _certified(values, np.maximum(rtol * (values[:, 0] if values.shape[1] else 0.0), DEFAULT_ATOL),
+                        jacobian)
+    return values, np.maximum(rtol * (values[:, 0] if values.shape[1] else 0.0), DEFAULT_ATOL)
+
+
+def _gram_values(matrices):
+    """Singular values of a stack of wide matrices J from the eigenvalues of ``J Jᵀ``, with LAPACK's SVD
+    wherever they are not certified to a relative :data:`GRAM_ACCURACY`, shape=[b, rows].
+
+    Forming ``G = J Jᵀ`` (k products per entry) and a backward-stable
+    symmetric eigensolver perturb each eigenvalue by at most about
+    ``(c·k + 10 c) ε σ₁²``, so ``σᵢ = √λᵢ`` has relative error at most
+    ``½ (c·k + 10 c) ε (σ₁/σᵢ)²``. That bound, for the smallest σ, is kept
+    below :data:`GRAM_ACCURACY` (a Gough–Stewart's DΦ at a regular point has
+    σ₁/σ_c ≈ 10: a bound of about 1e-11); elsewhere — any configuration near
+    a rank cut, whose σ's are 1e6 apart — LAPACK's SVD of J is taken. The
+    eigenvalue problem of the c × c Gram matrix costs a fraction of the SVD
+    of the c × k matrix.
+    """
+    count, rows, columns = matrices.shape
+    eigenvalues = np.linalg.eigvalsh(matrices @ np.swapaxes(matrices, -1, -2))[:, ::-1]
+    smallest = eigenvalues[:, -1]
+    factor = 0.5 * (rows * columns + 10 * rows) * np.finfo(float).eps
+    with np.errstate(divide="ignore", invalid="ignore"):
+        bound = np.where(smallest > 0, factor * eigenvalues[:, 0] / np.where(smallest > 0, smallest, 1.0), np.inf)
+    values = np.sqrt(np.clip(eigenvalues, 0.0, None))
+    redo = np.flatnonzero(~(bound <= GRAM_ACCURACY))
+    if len(redo):
+        values[redo] = np.linalg.svd(matrices[redo], compute_uv=False)
+    return values
+
+
+def _certified(values, tolerance, matrices):
+    """`values` with LAPACK's singular values of `matrices` wherever one lies within a relative
+    :data:`CUT_BAND` of the cut `tolerance` (shape=[b] or scalar).
+
+    The closed forms and Jacobi sweeps of :func:`classify.metrics.singular_values`
+    agree with LAPACK to a few rounding units of σ₁; only a value that close
+    to the cut could be counted otherwise than by a single call
+    (:func:`manifold.numerical_rank`, LAPACK). There the batch takes LAPACK's
+    values, so no rank decision depends on the method.
+    """
+    if not values.size:
+        return values
+    tolerance = np.broadcast_to(tolerance, values.shape[:1])
+    near = np.flatnonzero(np.any(np.abs(values - tolerance[:, None]) <= CUT_BAND * tolerance[:, None], axis=1))
+    if len(near):
+        values = values.copy()
+        values[near] = np.linalg.svd(matrices[near], compute_uv=False)
+    return values
+
+
+#: the largest condition number ``|C|_F |C⁻¹|_F`` of a loop's own block for which :func:`_arrow_bases` is used
+ARROW_CONDITION = 1e5
+
+
+@dataclass(frozen=True, eq=False)
+class ArrowStructure:
+    """DΦ in block-arrow form: every loop has as many columns of its own as rows.
+
+    With the loops' own columns ``P_i`` (touched by loop i only) and the
+    shared columns S (touched by several loops, or none), DΦ's rows of loop
+    i read ``B_i v_S + C_i v_{P_i}`` with ``C_i`` square: where every
+    ``C_i`` is invertible, ker DΦ is ``{v_S free, v_{P_i} = −C_i⁻¹ B_i v_S}``
+    — a Gough–Stewart platform (a loop through leg 0 and leg i), a planar or
+    spherical 3-RRR (Park & Kim 1999; Gosselin & Angeles 1990).
+
+    Attributes
+    ----------
+    shared : ndarray of int, shape=[m]
+    rows, own : ndarray of int, shape=[loops, R]
+        Each loop's rows and own columns.
+    """
+
+    shared: np.ndarray
+    rows: np.ndarray
+    own: np.ndarray
+
+
+def _arrow_structure(model):
+    """The :class:`ArrowStructure` of a model's DΦ, or None (no joint graph, or a loop whose own columns are
+    not as many as its rows: e.g. a single loop with more joints than rows)."""
+    if model.mechanism is None:
+        return None
+    from mechanisms import constraint_pattern, kinematics_of
+
+    pattern = constraint_pattern(model.mechanism)
+    loops = len(kinematics_of(model.mechanism).loops)
+    count, columns = pattern.shape
+    if loops < 2 or count % loops:
+        return None
+    per_loop = count // loops
+    touched = np.zeros((loops, columns), dtype=bool)
+    touched[pattern.rows // per_loop, pattern.columns] = True
+    own_columns = touched & (touched.sum(axis=0) == 1)
+    if np.any(own_columns.sum(axis=1) != per_loop):
+        return None
+    return ArrowStructure(shared=np.flatnonzero(~own_columns.any(axis=0)),
+                          rows=np.arange(count).reshape(loops, per_loop),
+                          own=np.array([np.flatnonzero(row) for row in own_columns]))
+
+
+def _arrow_bases(matrices, structure):
+    """Orthonormal kernel bases through the block-arrow form (:class:`ArrowStructure`), shape=[b, k, m],
+    and where they are trusted, shape=[b] (every ``C_i`` with ``|C_i|_F |C_i⁻¹|_F ≤ ARROW_CONDITION``).
+
+    ``N = [I; −C_i⁻¹ B_i]`` (rows in column order) spans the kernel and has
+    ``σ_min(N) ≥ 1``; its reduced QR factor Q is an orthonormal basis of the
+    same subspace. Small solves per loop and a k×m QR instead of the k×k
+    complete QR of DΦᵀ.
+    """
+    count, rows, columns = matrices.shape
+    flat = matrices.reshape(count, rows * columns)
+    own = np.take(flat, structure.rows[:, :, None] * columns + structure.own[:, None, :], axis=1)  # [b, loops, R, R]
+    coupling = np.take(flat, structure.rows[:, :, None] * columns + structure.shared[None, None, :],
+                       axis=1)                                                                     # [b, loops, R, m]
+    trusted = np.zeros(count, dtype=bool)
+    bases = np.zeros((count, columns, len(structure.shared)))
+    with np.errstate(all="ignore"):
+        try:
+            inverse = np.linalg.inv(own)
+        except np.linalg.LinAlgError:  # an exactly singular block: those configurations take the general way
+            singular = np.any(np.linalg.det(own) == 0.0, axis=1)
+            own = np.where(singular[:, None, None, None], np.eye(rows // len(structure.rows) or 1), own)
+            try:
+                inverse = np.linalg.inv(own)
+            except np.linalg.LinAlgError:
+                return bases, trusted
+            inverse[singular] = np.nan
+    with np.errstate(all="ignore"):
+        condition = np.linalg.norm(own, axis=(-2, -1)) * np.linalg.norm(inverse, axis=(-2, -1))
+    good = np.all(condition <= ARROW_CONDITION, axis=1)  # NaN (overflow) is not good
+    kept = np.flatnonzero(good)
+    if not len(kept):
+        return bases, trusted
+    spanning = np.zeros((len(kept), columns, len(structure.shared)))
+    spanning[:, structure.shared, np.arange(len(structure.shared))] = 1.0
+    spanning[:, structure.own.ravel(), :] = -(inverse[good] @ coupling[kept]).reshape(len(kept), -1,
+                                                                                       len(structure.shared))
+    bases[kept] = np.linalg.qr(spanning)[0]
+    trusted[kept] = True
+    return bases, trusted
+
+
+def _kernel_bases(matrices, rank, structure=None):
     """Orthonormal bases of the kernels of a stack of matrices of one numerical rank, shape=[b, columns,
     columns − rank].
 
-    Of full row rank (``rank`` = rows, the usual case of loop rows), the last
+    Of full row rank (``rank`` = rows, the usual case of loop rows), through
+    the block-arrow form where `structure` gives one and the loops' own
+    blocks are well conditioned (:func:`_arrow_bases`), else the last
     columns of the complete QR factors of the transposes (Householder QR:
     backward stable, and cheaper than the SVD); otherwise the right singular
-    vectors beyond the rank, as :func:`manifold.tangent_basis`. Either spans
+    vectors beyond the rank, as :func:`manifold.tangent_basis`. Each spans
     the same subspace; a basis is only ever used through quantities that do
     not depend on which orthonormal basis it is (singular values, λ's).
     """
     count, rows, columns = matrices.shape
     if rows == 0:
         return np.broadcast_to(np.eye(columns), (count, columns, columns))
+    if structure is not None and rank == rows and len(structure.shared) == columns - rows:
+        bases, trusted = _arrow_bases(matrices, structure)
+        rest = np.flatnonzero(~trusted)
+        if len(rest):
+            bases[rest] = _kernel_bases(matrices[rest], rank)
+        return bases
     if rank == rows and rows <= columns:
         orthogonal = np.linalg.qr(np.swapaxes(matrices, -1, -2), mode="complete")[0]
         return orthogonal[:, :, rank:]
@@ -375,7 +558,8 @@ def _regular_columns(model, points, basis, constraint_rank, survey, rtol, column
     unit_actuators, actuator_scale = unit_actuator_rows(model)
     actuator_tolerance = max(rtol * actuator_scale, DEFAULT_ATOL)
     actuator_block = unit_actuators @ basis  # [g, a, m]
-    actuator_ranks, actuator_margins = _decisions(singular_values(actuator_block), actuator_tolerance)
+    actuator_ranks, actuator_margins = _decisions(
+        _certified(singular_values(actuator_block), actuator_tolerance, actuator_block), actuator_tolerance)
     n = model.end_effector_dimension
     if n:
         end_effector_jacobian = np.broadcast_to(model.end_effector_jacobian(points), (count, n, k))
@@ -383,14 +567,16 @@ def _regular_columns(model, points, basis, constraint_rank, survey, rtol, column
         end_effector_scale = _largest(end_effector_rows * scales)
         end_effector_tolerance = np.maximum(rtol * end_effector_scale, DEFAULT_ATOL)
         end_effector_block = end_effector_rows @ basis
-        end_effector_ranks, end_effector_margins = _decisions(singular_values(end_effector_block),
-                                                              end_effector_tolerance)
+        end_effector_ranks, end_effector_margins = _decisions(
+            _certified(singular_values(end_effector_block), end_effector_tolerance, end_effector_block),
+            end_effector_tolerance)
     raised = constraint_rank > survey.constraint_rank
     if n and (raised or survey.joint_rank < dof):  # else the stacked rank cannot raise the survey's
         stacked = np.concatenate([
             actuator_block / max(actuator_scale, 1e-300),
             end_effector_block / np.maximum(end_effector_scale, 1e-300)[:, None, None]], axis=1)
-        joint_ranks = _decisions(singular_values(stacked), max(rtol, DEFAULT_ATOL))[0]  # reference scale 1
+        joint_tolerance = max(rtol, DEFAULT_ATOL)  # reference scale 1
+        joint_ranks = _decisions(_certified(singular_values(stacked), joint_tolerance, stacked), joint_tolerance)[0]
     elif n:
         joint_ranks = np.zeros(count, dtype=int)
     # the survey raised to each configuration's own ranks (Survey.including), as classify does
@@ -452,19 +638,10 @@ def _largest(matrices):
     return np.sqrt(np.clip(np.linalg.eigvalsh(gram)[:, -1], 0.0, None))
 
 
-def _concatenated(parts, model, count):
-    """One set of columns from the chunks' columns."""
-    if not parts:
-        columns = _empty_columns(model, 0)
-        columns["full"] = np.zeros(0, dtype=bool)
-        return columns
-    result = {}
-    for name, first in parts[0].items():
-        if isinstance(first, dict):
-            result[name] = {kind: np.concatenate([part[name][kind] for part in parts]) for kind in first}
-        else:
-            result[name] = np.concatenate([part[name] for part in parts])
-    return result
+def _rows_of(columns, start, stop):
+    """Views of rows ``start:stop`` of every column (writing into them fills the whole stack's)."""
+    return {name: ({kind: array[start:stop] for kind, array in value.items()} if isinstance(value, dict)
+                   else value[start:stop]) for name, value in columns.items()}
 
 
 def _fill(result, index, report):

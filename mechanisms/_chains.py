@@ -12,6 +12,7 @@ chart, one array operation per element position.
 
 from __future__ import annotations
 
+import weakref
 from collections import deque
 from collections.abc import Mapping
 from dataclasses import dataclass
@@ -26,7 +27,8 @@ from . import _groups as groups
 __all__ = [
     "Element", "Chain", "ChainGroup", "LinkChains", "elements_of_joint", "chains_of", "chain_coordinates",
     "chain_shape", "chain_group", "groups_of", "loop_pattern", "element_matrices", "expand_group", "expand",
-    "loop_products", "hessian_blocks",
+    "loop_products", "hessian_blocks", "planar_prefixes", "planar_twists", "planar_loops",
+    "carried_twists", "loop_first_order", "first_derivatives",
 ]
 
 
@@ -428,3 +430,204 @@ def hessian_blocks(compiled, point):
         yield group.chains[:, None] * rows_per_loop + np.arange(rows_per_loop), group.columns, values
 
 
+
+
+# --------------------------------------------------------------------------- planar chains in complex form
+
+def planar_prefixes(group, point):
+    """The prefix products of planar chains as complex numbers: rotations and translations, no 3×3 products.
+
+    A planar rigid motion ``[[R(θ), t], [0, 1]]`` is the pair ``(r, t) = (e^{iθ}, t_x + i t_y)``
+    and composes as ``(r₁, t₁)(r₂, t₂) = (r₁ r₂, t₁ + r₁ t₂)``. An element
+    ``exp(θ X̂)`` of a rotation about the point c is ``(e^{iθ}, c (1 − e^{iθ}))``,
+    one of a translation by d along a is ``(1, d a)``. So the prefix
+    rotations are a cumulative product and the prefix translations a
+    cumulative sum: ``t_j = Σ_{i ≤ j} r_{i−1} t_i``. The same products as
+    :func:`expand_group` (``prefix``), to rounding.
+
+    Parameters
+    ----------
+    group : ChainGroup
+        Of a planar mechanism.
+    point : ndarray, shape=[..., point_size]
+
+    Returns
+    -------
+    rotations, translations : ndarray of complex, shape=[..., g, L + 1]
+        Entry j is the product of the first j elements (entry 0 the identity, entry L the chain's product).
+    """
+    value = group.signs * point[..., group.values]                       # [..., g, L]
+    centres, directions, rotating = _planar_constants(group)
+    if rotating:  # revolute joints only
+        turn = np.exp(1j * value)
+        moves = centres * (1.0 - turn)
+    else:
+        turn = np.where(group.rotation, np.exp(1j * value), 1.0 + 0j)
+        moves = np.where(group.rotation, centres * (1.0 - turn), value * directions)
+    shape = value.shape[:-1] + (1,)
+    rotations = np.concatenate([np.ones(shape, dtype=complex), np.cumprod(turn, axis=-1)], axis=-1)
+    translations = np.concatenate([np.zeros(shape, dtype=complex),
+                                   np.cumsum(rotations[..., :-1] * moves, axis=-1)], axis=-1)
+    return rotations, translations
+
+
+_PLANAR_CONSTANTS = weakref.WeakKeyDictionary()
+
+
+def _planar_constants(group):
+    """Per element of a planar group: its centre c (rotations, ``v = (c_y, −c_x)``) and direction a
+    (translations) as complex numbers, shape=[g, L], and whether every element is a rotation (cached)."""
+    constants = _PLANAR_CONSTANTS.get(group)
+    if constants is None:
+        twists = group.element_twists                                      # [g, L, 3, 3], signed
+        constants = (-twists[:, :, 1, 2] + 1j * twists[:, :, 0, 2], twists[:, :, 0, 2] + 1j * twists[:, :, 1, 2],
+                     bool(np.all(group.rotation)))
+        _PLANAR_CONSTANTS[group] = constants
+    return constants
+
+
+def planar_twists(group, rotations, translations):
+    """Each coordinate's twist carried by its prefix, ``Ad_{P} X`` in the ground frame (planar chains).
+
+    For ``X = (ω, v)`` and the prefix ``P = (r, t)`` at the coordinate's
+    slot: ``(ω, r v − i ω t)`` (v complex): the twist of the joint where it
+    now stands. ``∂T/∂v_a = P X̂_a P⁻¹ T`` is this twist's matrix times T.
+
+    Returns
+    -------
+    angular : ndarray, shape=[g, C]
+        ω of each coordinate (constant).
+    linear : ndarray of complex, shape=[..., g, C]
+    """
+    angular = group.twists[:, :, 1, 0]
+    linear = group.twists[:, :, 0, 2] + 1j * group.twists[:, :, 1, 2]
+    slots = group.slots
+    return angular, rotations[..., slots] * linear - 1j * angular * translations[..., slots]
+
+
+def planar_loops(group, point, length, order=1):
+    """Φ's rows, the half-turn test and DΦ's entries of planar loops, without 3×3 products.
+
+    With the loop product ``T = (r, t)`` the rows ``L(T)`` are
+    ``(Im r, Re t / ℓ, Im t / ℓ)`` and ``Re r > 0`` excludes the half-turn;
+    with a coordinate's carried twist ``(ω, w)`` (:func:`planar_twists`),
+    ``L(∂T/∂v) = L(Ŵ T) = (ω Re r, Re(w + i ω t) / ℓ, Im(w + i ω t) / ℓ)``:
+    :func:`mechanisms._groups.loop_rows` of :func:`expand_group`'s
+    derivatives, to rounding.
+
+    Parameters
+    ----------
+    group : ChainGroup
+    point : ndarray, shape=[..., point_size]
+    length : float
+        ℓ, the characteristic length.
+    order : int
+        0: rows and turns only.
+
+    Returns
+    -------
+    rows : ndarray, shape=[..., g, 3]
+    turns : ndarray of bool, shape=[..., g]
+    entries : ndarray, shape=[..., g, C, 3] or None (order 0)
+    """
+    rotations, translations = planar_prefixes(group, point)
+    rotation, translation = rotations[..., -1], translations[..., -1]
+    rows = np.stack([rotation.imag, translation.real / length, translation.imag / length], axis=-1)
+    turns = rotation.real > 0.0
+    if order < 1:
+        return rows, turns, None
+    angular, linear = planar_twists(group, rotations, translations)
+    moved = linear + 1j * angular * translation[..., None]
+    entries = np.stack([angular * rotation.real[..., None], moved.real / length, moved.imag / length], axis=-1)
+    return rows, turns, entries
+
+
+# --------------------------------------------------------------------------- first order from prefixes only
+
+def carried_twists(space, group, point):
+    """The chains' products and each coordinate's twist carried to the ground frame, from prefix products only.
+
+    ``∂T/∂v_a = P X̂_a S`` with ``P S = T`` (P the prefix up to the
+    coordinate's slot, S the suffix), so ``∂T/∂v_a = Ŵ_a T`` with
+    ``Ŵ_a = P X̂_a P⁻¹``, i.e. ``W_a = Ad_P X_a``: for ``X = (ω, v)``,
+    ``(R ω, R v + p × R ω)`` with ``P = [R, p]``. No suffix products
+    (:func:`expand_group` forms both), the same derivatives to rounding.
+    Spherical and spatial chains (planar ones: :func:`planar_twists`).
+
+    Returns
+    -------
+    product : ndarray, shape=[..., g, n, n]
+    angular : ndarray, shape=[..., g, C, 3]
+    linear : ndarray, shape=[..., g, C, 3] or None (spherical)
+    """
+    matrices = element_matrices(space, group, point)                # [..., g, L, n, n]
+    prefix = [np.broadcast_to(np.eye(matrices.shape[-1]), matrices.shape[:-3] + matrices.shape[-2:])]
+    for number in range(group.length):
+        prefix.append(prefix[-1] @ matrices[..., number, :, :])
+    slots = group.slots
+    at_slots = np.stack([prefix[slot] for slot in slots], axis=-3)    # [..., g, C, n, n]
+    twists = group.twists                                             # [g, C, n, n]
+    axes = np.stack([twists[..., 2, 1], twists[..., 0, 2], twists[..., 1, 0]], axis=-1)  # ω, [g, C, 3]
+    rotations = at_slots[..., :3, :3]
+    angular = _times(rotations, axes)
+    if space == "spherical":
+        return prefix[-1], angular, None
+    linear = _times(rotations, twists[..., :3, 3]) + _cross(at_slots[..., :3, 3], angular)
+    return prefix[-1], angular, linear
+
+
+def _times(matrices, vectors):
+    """``M v`` for stacks of 3×3 matrices and 3-vectors, as a sum of scaled columns (faster than
+    ``einsum``/``matmul`` on many tiny matrices), shape=[..., 3]."""
+    return (matrices[..., 0] * vectors[..., 0, None] + matrices[..., 1] * vectors[..., 1, None]
+            + matrices[..., 2] * vectors[..., 2, None])
+
+
+def _cross(first, second):
+    """``a × b`` for stacks of 3-vectors, shape=[..., 3]."""
+    a0, a1, a2 = first[..., 0], first[..., 1], first[..., 2]
+    b0, b1, b2 = second[..., 0], second[..., 1], second[..., 2]
+    return np.stack([a1 * b2 - a2 * b1, a2 * b0 - a0 * b2, a0 * b1 - a1 * b0], axis=-1)
+
+
+def loop_first_order(space, group, point, length):
+    """Loop products and DΦ's entries of spherical or spatial loops, from :func:`carried_twists`.
+
+    ``L(Ŵ T)`` in closed form, with ``T = [R, p]`` and ``W = (ω, v)``:
+    the rotation rows ``½ vee(ω̂R − Rᵀω̂ᵀ) = ½ (tr R · ω − R ω)``, the
+    translation rows ``(ω × p + v) / ℓ``.
+
+    Returns
+    -------
+    product : ndarray, shape=[..., g, n, n]
+    entries : ndarray, shape=[..., g, C, R]
+    """
+    product, angular, linear = carried_twists(space, group, point)
+    rotation = product[..., :3, :3]
+    trace = np.trace(rotation, axis1=-2, axis2=-1)[..., None, None]  # [..., g, 1, 1]
+    rows = 0.5 * (trace * angular - _times(rotation[..., None, :, :], angular))
+    if space == "spherical":
+        return product, rows
+    moved = (_cross(angular, np.broadcast_to(product[..., None, :3, 3], angular.shape)) + linear) / length
+    return product, np.concatenate([rows, moved], axis=-1)
+
+
+def first_derivatives(space, group, point):
+    """T and ``∂T/∂v_a = Ŵ_a T`` along the chains of a group (:func:`carried_twists`): what
+    :func:`expand_group` returns at order 1, without suffix products (spherical and spatial chains).
+
+    Returns
+    -------
+    product : ndarray, shape=[..., g, n, n]
+    first : ndarray, shape=[..., g, C, n, n]
+    """
+    product, angular, linear = carried_twists(space, group, point)
+    x, y, z = angular[..., 0], angular[..., 1], angular[..., 2]
+    zero = np.zeros_like(x)
+    size = product.shape[-1]
+    hats = np.zeros(angular.shape[:-1] + (size, size))
+    hats[..., :3, :3] = np.stack([np.stack([zero, -z, y], -1), np.stack([z, zero, -x], -1),
+                                  np.stack([-y, x, zero], -1)], -2)
+    if linear is not None:
+        hats[..., :3, 3] = linear
+    return product, hats @ product[..., None, :, :]

@@ -20,6 +20,13 @@ equals the Lie-bracket form ``½ Σ_{i<j} [Z_i, Z_j]`` of the carried twists.
 The loop rows ``L(T)`` (:mod:`._groups`) are linear in T, so ``DΦ = L(DT)``
 and ``D²Φ = L(D²T)`` exactly, at every configuration, on or off M.
 
+First derivatives need no suffix products: with the prefix P up to a
+coordinate's slot, ``∂T/∂v_a = P X̂_a P⁻¹ T = Ŵ_a T`` for the carried twist
+``W_a = Ad_P X_a``, on or off M, and ``L(Ŵ T)`` has a closed form
+(:func:`mechanisms._chains.loop_first_order`). Planar chains are evaluated
+in complex form, a rigid motion ``(e^{iθ}, t)``, with no 3×3 products at all
+(:func:`mechanisms._chains.planar_loops`).
+
 The end-effector map in the exponential chart of N at f(p) uses the body
 twists ``ŵ_a = F⁻¹ ∂F/∂v_a`` and the Baker-Campbell-Hausdorff formula::
 
@@ -193,8 +200,29 @@ def constraint(mechanism, point):
     """
     compiled = kinematics_of(mechanism)
     point = _as_points(mechanism, point)
+    if compiled.space == "planar":
+        return _planar_closure(compiled, point, 0)[0]
     rows = groups.loop_rows(compiled.space, chains.loop_products(compiled, point), compiled.length)
     return rows.reshape(point.shape[:-1] + (-1,))
+
+
+def _planar_closure(compiled, point, order):
+    """Φ, the half-turn test and DΦ's entries of a planar mechanism in complex form
+    (:func:`mechanisms._chains.planar_loops`): ``(rows [..., c], turns [...], entries [..., nnz] or None)``."""
+    batch = point.shape[:-1]
+    rows = np.zeros(batch + (len(compiled.loops), 3))
+    turns = np.ones(batch, dtype=bool)
+    entries = []
+    for group in compiled.loop_groups:
+        group_rows, group_turns, group_entries = chains.planar_loops(group, point, compiled.length, order)
+        rows[..., group.chains, :] = group_rows
+        turns &= np.all(group_turns, axis=-1)
+        if order >= 1:
+            entries.append(group_entries.reshape(batch + (-1,)))
+    if order < 1:
+        return rows.reshape(batch + (-1,)), turns, None
+    entries = np.concatenate(entries, axis=-1) if entries else np.zeros(batch + (0,))
+    return rows.reshape(batch + (-1,)), turns, entries
 
 
 def constraint_pattern(mechanism):
@@ -207,9 +235,10 @@ def constraint_jacobian_entries(mechanism, point):
     """The entries of DΦ(point) at :func:`constraint_pattern`, in its order, shape=[..., nnz]."""
     compiled = kinematics_of(mechanism)
     point = _as_points(mechanism, point)
-    entries = [groups.loop_rows(compiled.space, chains.expand_group(compiled.space, group, point, 1)[1],
-                                compiled.length).reshape(point.shape[:-1] + (-1,))
-               for group in compiled.loop_groups]  # [..., g, C, R] each
+    if compiled.space == "planar":
+        return _planar_closure(compiled, point, 1)[2]
+    entries = [chains.loop_first_order(compiled.space, group, point, compiled.length)[1]
+               .reshape(point.shape[:-1] + (-1,)) for group in compiled.loop_groups]  # [..., g, C, R] each
     return np.concatenate(entries, axis=-1) if entries else np.zeros(point.shape[:-1] + (0,))
 
 
@@ -248,14 +277,19 @@ def closure_and_jacobian(mechanism, point):
     compiled = kinematics_of(mechanism)
     point = _as_points(mechanism, point)
     pattern = compiled.pattern
+    if compiled.space == "planar":
+        rows, turns, entries = _planar_closure(compiled, point, 1)
+        jacobian = np.zeros(point.shape[:-1] + pattern.shape)
+        jacobian[..., pattern.rows, pattern.columns] = entries
+        return rows, turns, jacobian
     size = groups.MATRIX_SIZE[compiled.space]
     products = np.zeros(point.shape[:-1] + (len(compiled.loops), size, size))
     jacobian = np.zeros(point.shape[:-1] + pattern.shape)
     entries = []
     for group in compiled.loop_groups:
-        product, first, _ = chains.expand_group(compiled.space, group, point, 1)
+        product, group_entries = chains.loop_first_order(compiled.space, group, point, compiled.length)
         products[..., group.chains, :, :] = product
-        entries.append(groups.loop_rows(compiled.space, first, compiled.length).reshape(point.shape[:-1] + (-1,)))
+        entries.append(group_entries.reshape(point.shape[:-1] + (-1,)))
     if entries:
         jacobian[..., pattern.rows, pattern.columns] = np.concatenate(entries, axis=-1)
     rows = groups.loop_rows(compiled.space, products, compiled.length).reshape(point.shape[:-1] + (-1,))
@@ -307,6 +341,10 @@ def closes(mechanism, point, tolerance=1e-9):
     """Whether every loop closes: ‖Φ‖ ≤ tolerance and no loop is a half-turn, shape=[...]."""
     compiled = kinematics_of(mechanism)
     point = _as_points(mechanism, point)
+    if compiled.space == "planar":
+        rows, turns, _ = _planar_closure(compiled, point, 0)
+        rows = rows.reshape(point.shape[:-1] + (len(compiled.loops), 3))
+        return np.all(np.linalg.norm(rows, axis=-1) <= tolerance, axis=-1) & turns
     products = chains.loop_products(compiled, point)
     rows = groups.loop_rows(compiled.space, products, compiled.length)
     return (np.all(np.linalg.norm(rows, axis=-1) <= tolerance, axis=-1)
@@ -468,7 +506,10 @@ def _end_effector_expansion(mechanism, point, order):
     compiled = _require_end_effector(mechanism)
     point = _as_points(mechanism, point)
     group = _link_group(compiled, compiled.end_effector_link)
-    product, first, second = chains.expand_group(compiled.space, group, point, order)
+    if order == 1 and compiled.space != "planar":
+        (product, first), second = chains.first_derivatives(compiled.space, group, point), None
+    else:
+        product, first, second = chains.expand_group(compiled.space, group, point, order)
     return (compiled, point, group, product[..., 0, :, :], None if first is None else first[..., 0, :, :, :],
             None if second is None else second[..., 0, :, :, :, :])
 
@@ -480,10 +521,41 @@ def end_effector_jacobian(mechanism, point):
     ``vee(F⁻¹ ∂F/∂v)``. Tool outputs: ∂(T x)/∂v, then ``E(u) ∂(T a)/∂v``
     (the rate ω × u of the direction in the basis :func:`tool_basis` of u^⊥).
     """
-    compiled, point, group, product, first, _ = _end_effector_expansion(mechanism, point, 1)
+    compiled = _require_end_effector(mechanism)
+    if compiled.space == "planar":
+        point = _as_points(mechanism, point)
+        group = _link_group(compiled, compiled.end_effector_link)
+        columns = _planar_end_effector_columns(compiled, group, point)
+    else:
+        compiled, point, group, product, first, _ = _end_effector_expansion(mechanism, point, 1)
+        columns = _end_effector_columns(compiled, product, first)
     jacobian = np.zeros(point.shape[:-1] + (end_effector_dimension(mechanism), compiled.ambient.dim))
-    jacobian[..., :, group.columns[0]] = np.swapaxes(_end_effector_columns(compiled, product, first), -1, -2)
+    jacobian[..., :, group.columns[0]] = np.swapaxes(columns, -1, -2)
     return jacobian
+
+
+def _planar_end_effector_columns(compiled, group, point):
+    """Df's columns of a planar end-effector in complex form, shape=[..., C, n].
+
+    With the link's pose ``(r, t)``, the end-effector point ``x = r x₀ + t``
+    and a coordinate's carried twist ``(ω, w)``
+    (:func:`mechanisms._chains.planar_twists`): the point moves at
+    ``w + i ω x``; the body twist of the frame is ``(ω, r̄ (w + i ω x))``.
+    """
+    rotations, translations = chains.planar_prefixes(group, point)
+    rotation, translation = rotations[..., 0, -1], translations[..., 0, -1]
+    angular, linear = chains.planar_twists(group, rotations, translations)
+    angular, linear = angular[0], linear[..., 0, :]                      # [C], [..., C]
+    home_point = compiled.end_effector_point
+    position = translation if home_point is None else rotation * complex(*home_point[:2]) + translation
+    moved = linear + 1j * angular * position[..., None]
+    if compiled.output == "position":
+        return np.stack([moved.real, moved.imag], axis=-1)
+    spin = np.broadcast_to(angular, moved.shape)
+    if compiled.output == "orientation":
+        return spin[..., None]
+    body = np.conj(rotation)[..., None] * moved
+    return np.stack([spin, body.real, body.imag], axis=-1)
 
 
 def _end_effector_columns(compiled, product, derivative):

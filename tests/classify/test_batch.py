@@ -20,6 +20,16 @@ from mechanisms import ConfigurationError, catalogue
 
 #: the module (``classify.survey`` the attribute is the function it exports)
 survey_module = importlib.import_module("classify.survey")
+batch_module = importlib.import_module("classify.batch")
+metrics_module = importlib.import_module("classify.metrics")
+
+
+@pytest.fixture(autouse=True)
+def fast_paths_on_small_stacks(monkeypatch):
+    """The stacks here are small: let them take the fast paths that large stacks take (one-sided Jacobi,
+    the certified Gram eigenvalues), so batch = single is checked on the path used at scale."""
+    monkeypatch.setattr(metrics_module, "JACOBI_STACK", 1)
+    monkeypatch.setattr(batch_module, "JACOBI_STACK", 1)
 
 
 def _stack(model, seed, walk_count=3):

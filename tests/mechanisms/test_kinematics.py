@@ -161,3 +161,58 @@ def test_bennett_is_overconstrained_but_mobile():
     jacobian = constraint_jacobian(mechanism, home(mechanism))
     assert jacobian.shape == (6, 4)
     assert numerical_rank(jacobian).rank == 3
+
+
+def with_output(mechanism, output):
+    """The mechanism with its end-effector's output replaced (same link and point)."""
+    frame = EndEffector(mechanism.end_effector.link,
+                        None if output == "orientation" else mechanism.end_effector.point, output)
+    return Mechanism(mechanism.name, mechanism.space, mechanism.joints, mechanism.ground, frame)
+
+
+FAST_PATHS = {
+    **MECHANISMS,
+    "five-bar pose": lambda: with_output(five_bar(five_bar_positions(1.2, 2.0)), "pose"),
+    "five-bar orientation": lambda: with_output(five_bar(five_bar_positions(1.2, 2.0)), "orientation"),
+    "slider-crank pose": lambda: with_output(slider_crank(crank=2.0, coupler=1.0, theta=0.3), "pose"),
+}
+
+
+@pytest.mark.parametrize("name", sorted(FAST_PATHS))
+def test_first_order_closed_forms_equal_the_matrix_products(name):
+    """DΦ and Df from prefix products only (planar: complex numbers, no 3×3 products; spherical and
+    spatial: twists carried by the prefixes, ``∂T = Ŵ T``) equal the prefix·twist·suffix products of
+    :func:`mechanisms._chains.expand_group`, on and off M, balls at gimbal attitudes included."""
+    from mechanisms import _chains as chains
+    from mechanisms import _groups as groups
+    from mechanisms import closure_and_jacobian
+    from mechanisms.kinematics import _end_effector_columns, _link_group
+
+    rng = np.random.default_rng(14)
+    mechanism = FAST_PATHS[name]()
+    compiled = kinematics_of(mechanism)
+    points = np.array(random_points(mechanism, rng, count=4))
+    batch = points.shape[:-1]
+    pattern = compiled.pattern
+    jacobian = np.zeros(batch + pattern.shape)
+    products = np.zeros(batch + (len(compiled.loops),) + (groups.MATRIX_SIZE[compiled.space],) * 2)
+    entries = []
+    for group in compiled.loop_groups:
+        product, first, _ = chains.expand_group(compiled.space, group, points, 1)
+        products[..., group.chains, :, :] = product
+        entries.append(groups.loop_rows(compiled.space, first, compiled.length).reshape(batch + (-1,)))
+    jacobian[..., pattern.rows, pattern.columns] = np.concatenate(entries, axis=-1)
+    rows = groups.loop_rows(compiled.space, products, compiled.length).reshape(batch + (-1,))
+    turns = np.all(groups.is_identity_rotation(compiled.space, products), axis=-1)
+    fast_rows, fast_turns, fast_jacobian = closure_and_jacobian(mechanism, points)
+    np.testing.assert_allclose(fast_jacobian, jacobian, rtol=0, atol=1e-13)
+    np.testing.assert_allclose(fast_rows, rows, rtol=0, atol=1e-13)
+    np.testing.assert_allclose(constraint(mechanism, points), rows, rtol=0, atol=1e-13)
+    np.testing.assert_allclose(constraint_jacobian(mechanism, points), jacobian, rtol=0, atol=1e-13)
+    assert np.array_equal(fast_turns, turns)
+    group = _link_group(compiled, compiled.end_effector_link)
+    product, first, _ = chains.expand_group(compiled.space, group, points, 1)
+    columns = _end_effector_columns(compiled, product[..., 0, :, :], first[..., 0, :, :, :])
+    expected = np.zeros(batch + (columns.shape[-1], compiled.ambient.dim))
+    expected[..., :, group.columns[0]] = np.swapaxes(columns, -1, -2)
+    np.testing.assert_allclose(end_effector_jacobian(mechanism, points), expected, rtol=0, atol=1e-13)

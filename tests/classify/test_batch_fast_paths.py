@@ -1,0 +1,142 @@
+"""The fast paths of the batched first-order classification decide as the general ones (issue 11).
+
+One-sided Jacobi for the singular values of small matrices, the Gram matrix's
+eigenvalues for larger ones where certified, LAPACK near a rank cut, and the
+block-arrow kernel bases of mechanisms whose loops each own as
+many joint coordinates as they have rows (Gough–Stewart, 3-RRR): each is
+compared with the general computation, and a whole batch with the fast paths
+switched off must give the same verdicts, ranks, margins and λ's.
+"""
+
+import numpy as np
+import pytest
+
+from classify import model_of
+from classify import batch as batch_module
+from classify import metrics
+from classify.batch import _arrow_structure, _certified, _kernel_bases, classify_many
+from classify.metrics import jacobi_singular_values, singular_values
+from manifold import sample_manifold
+from mechanisms import catalogue
+
+
+def test_jacobi_singular_values_equal_lapack_to_rounding():
+    rng = np.random.default_rng(21)
+    for shape in [(300, 3, 5), (200, 4, 4), (100, 3, 9), (100, 6, 9)]:
+        matrices = rng.standard_normal(shape)
+        matrices[:20, -1] = matrices[:20, 0] - 2.0 * matrices[:20, 1]  # rank deficient
+        matrices[20:40] *= np.logspace(0, -7, shape[1])[:, None]  # graded rows, σ's down to 1e-7
+        values, converged = jacobi_singular_values(matrices)
+        expected = np.linalg.svd(matrices, compute_uv=False)
+        assert converged.all()
+        assert np.all(np.abs(values - expected) <= 2e-14 * expected[:, :1])
+        # graded rows: the small σ's to high relative accuracy, not only to rounding of σ₁
+        np.testing.assert_allclose(values[20:40], expected[20:40], rtol=1e-12)
+    for scale in (1e-200, 1e200):  # squared norms would under- or overflow without scaling
+        matrices = rng.standard_normal((20, 3, 5))
+        values, converged = jacobi_singular_values(scale * matrices)
+        assert converged.all()
+        np.testing.assert_allclose(values / scale, np.linalg.svd(matrices, compute_uv=False), rtol=1e-13)
+    _, converged = jacobi_singular_values(rng.standard_normal((50, 4, 6)), sweeps=1)
+    assert not converged.all()  # one sweep does not orthogonalise: flagged, never used silently
+
+
+def test_small_matrices_take_jacobi_and_tall_ones_are_transposed(monkeypatch):
+    calls = []
+    original = metrics.jacobi_singular_values
+    monkeypatch.setattr(metrics, "jacobi_singular_values", lambda m, *a: calls.append(m.shape) or original(m, *a))
+    rng = np.random.default_rng(22)
+    for shape in [(80, 3, 3), (80, 5, 3), (2, 40, 4, 4), (40, 3, 3)]:
+        matrices = rng.standard_normal(shape)
+        expected = np.linalg.svd(matrices, compute_uv=False)
+        values = singular_values(matrices)
+        assert values.shape == expected.shape
+        assert np.all(np.abs(values - expected) <= 2e-14 * expected[..., :1])
+    assert calls == [(80, 3, 3), (80, 3, 5), (80, 4, 4)]  # a stack of 40: LAPACK
+
+
+def test_values_near_the_cut_are_lapacks():
+    rng = np.random.default_rng(23)
+    left, _ = np.linalg.qr(rng.standard_normal((30, 3, 3)))
+    right, _ = np.linalg.qr(rng.standard_normal((30, 5, 5)))
+    sigma = np.tile([2.0, 1.0, 0.0], (30, 1))
+    tolerance = 1e-6 * 2.0
+    sigma[:10, 2] = tolerance * (1.0 + 1e-12)   # at the cut: within the band
+    sigma[10:, 2] = tolerance * 10.0            # clearly kept
+    matrices = left @ (sigma[:, :, None] * right[:, :3, :])
+    approximate = singular_values(matrices) * (1.0 + 1e-15)  # any method's rounding
+    values = _certified(approximate, np.full(30, tolerance), matrices)
+    np.testing.assert_array_equal(values[:10], np.linalg.svd(matrices[:10], compute_uv=False))
+    np.testing.assert_array_equal(values[10:], approximate[10:])
+
+
+def test_gram_values_are_certified_or_lapacks():
+    """σ's from the eigenvalues of J Jᵀ only where their error bound is below GRAM_ACCURACY: a
+    well-conditioned stack agrees with LAPACK to it; ill-conditioned and rank-deficient matrices get
+    LAPACK's values exactly."""
+    rng = np.random.default_rng(26)
+    matrices = rng.standard_normal((120, 6, 9))
+    matrices[:10, 5] = matrices[:10, 0] + 1e-7 * matrices[:10, 1]   # σ₆ ≈ 1e-7 σ₁: near a cut
+    matrices[10:20, 5] = matrices[10:20, 0]                          # rank 5
+    expected = np.linalg.svd(matrices, compute_uv=False)
+    values = batch_module._gram_values(matrices)
+    np.testing.assert_array_equal(values[:20], expected[:20])
+    conditioned = expected[20:, 0] / expected[20:, -1] < 20
+    assert conditioned.sum() > 50
+    np.testing.assert_allclose(values[20:][conditioned], expected[20:][conditioned], rtol=batch_module.GRAM_ACCURACY)
+
+
+def _walked(name, count, seed, configuration=None):
+    model = model_of(catalogue.entry(name).mechanism(configuration))
+    points = sample_manifold(model.manifold, np.random.default_rng(seed), model.starts, random_count=2,
+                             walk_count=count)
+    return model, points
+
+
+@pytest.mark.parametrize("name", ["gough-stewart", "planar-3rrr", "spherical-3rrr"])
+def test_block_arrow_bases_span_the_kernel(name):
+    model, points = _walked(name, 12, seed=24)
+    structure = _arrow_structure(model)
+    assert structure is not None
+    legs, loops = {"gough-stewart": (6, 5), "planar-3rrr": (3, 2), "spherical-3rrr": (3, 2)}[name]
+    assert len(structure.shared) == legs and structure.own.shape == (loops, legs)
+    jacobian = model.manifold.constraint_jacobian(points) * model.manifold.ambient.tangent_scales
+    rank = jacobian.shape[1]
+    fast, general = _kernel_bases(jacobian, rank, structure), _kernel_bases(jacobian, rank)
+    np.testing.assert_allclose(fast @ np.swapaxes(fast, -1, -2), general @ np.swapaxes(general, -1, -2), atol=1e-12)
+    np.testing.assert_allclose(np.swapaxes(fast, -1, -2) @ fast, np.broadcast_to(np.eye(legs), (len(fast), legs, legs)),
+                               atol=1e-12)
+    # a loop's own block made singular: that configuration takes the general way, the others stay fast
+    broken = jacobian.copy()
+    broken[0][np.ix_(structure.rows[0], structure.own[0])] = 0.0
+    bases, trusted = batch_module._arrow_bases(broken, structure)
+    assert not trusted[0] and trusted[1:].all()
+    kernel = _kernel_bases(broken, rank, structure)
+    assert np.abs(broken @ kernel).max() < 1e-12
+
+
+def test_a_single_loop_has_no_arrow_structure():
+    assert _arrow_structure(model_of(catalogue.entry("five-bar").mechanism())) is None
+
+
+@pytest.mark.parametrize("name, configuration", [("planar-3rrr", "eq61_distal_links_concurrent"),
+                                                 ("five-bar", "fig6a_distal_aligned"),
+                                                 ("gough-stewart", "eq84_leg1_zero_length")])
+def test_verdicts_do_not_depend_on_the_fast_paths(name, configuration, monkeypatch):
+    """At a singular configuration of the papers (Gosselin & Angeles 1990 eqs. 61 and 84, Park & Kim 1999
+    Fig. 6a) and configurations walked from it."""
+    model, points = _walked(name, 4, seed=25, configuration=configuration)
+    with monkeypatch.context() as patch:  # the fast paths of large stacks, on this small one
+        patch.setattr(metrics, "JACOBI_STACK", 1)
+        patch.setattr(batch_module, "JACOBI_STACK", 1)
+        fast = classify_many(model, points)
+    monkeypatch.setattr(metrics, "JACOBI_ROWS", 0)
+    monkeypatch.setattr(batch_module, "GRAM_ACCURACY", 0.0)
+    monkeypatch.setattr(batch_module, "_arrow_structure", lambda model: None)
+    general = classify_many(model, points)
+    np.testing.assert_array_equal(fast.singular, general.singular)
+    assert fast.singular.any()  # singular configurations are among them
+    for kind in fast.ranks:
+        np.testing.assert_array_equal(fast.ranks[kind], general.ranks[kind])
+        np.testing.assert_allclose(fast.margins[kind], general.margins[kind], rtol=1e-9, atol=1e-14)
+    np.testing.assert_allclose(fast.eigenvalues, general.eigenvalues, rtol=1e-9)
