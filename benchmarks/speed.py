@@ -384,7 +384,7 @@ def stage_times(model, points):
     values, the stacked map (computed only where it can raise the survey's
     rank), the proper values.
     """
-    from classify.batch import _arrow_structure, _constraint_values, _kernel_bases
+    from classify.batch import _arrow_structure, _constraint_values, kernel_bases
     from manifold import DEFAULT_RTOL
     from classify.metrics import metric_root, proper_values, singular_values, unit_rows
     from mechanisms import closure_and_jacobian
@@ -412,7 +412,7 @@ def stage_times(model, points):
     structure = _arrow_structure(model)
     basis = stage("kernel bases (" + ("block-arrow solves and a k×m QR" if structure is not None
                                       else "complete QR of the transpose") + ")",
-                  lambda: _kernel_bases(jacobian, rank, structure))
+                  lambda: kernel_bases(jacobian, rank, structure))
     stage("[not in the path] full SVD of DΦ·diag(s)", lambda: np.linalg.svd(jacobian, full_matrices=True))
     basis = scales[:, None] * basis
     unit_actuators = unit_rows(model.actuators, scales)

@@ -50,7 +50,7 @@ from .progress import progress_bar
 from .report import KINDS
 from .survey import survey_of, unit_actuator_rows
 
-__all__ = ["Classifications", "classify_many", "DEFAULT_CHUNK"]
+__all__ = ["Classifications", "classify_many", "kernel_bases", "DEFAULT_CHUNK"]
 
 #: the second-order verdict as the int8 column :attr:`Classifications.degenerate`
 _DEGENERACY = {"degenerate": 1, "nondegenerate": 0, "undetermined": -1}
@@ -335,7 +335,7 @@ def _first_order(model, points, survey, rtol, offset, columns=None):
     structure = _arrow_structure(model)
     for rank in np.unique(constraint_ranks[regular]):
         group = regular[constraint_ranks[regular] == rank]
-        basis = scales[:, None] * _kernel_bases(jacobian[group], int(rank), structure)  # [g, k, m]
+        basis = scales[:, None] * kernel_bases(jacobian[group], int(rank), structure)  # [g, k, m]
         _regular_columns(model, points[group], basis, int(rank), survey, rtol, columns, group)
     columns["full"][:] = full | columns["singular"][:, KINDS.index("actuator")]
     return columns
@@ -503,7 +503,7 @@ def _arrow_bases(matrices, structure):
     return bases, trusted
 
 
-def _kernel_bases(matrices, rank, structure=None):
+def kernel_bases(matrices, rank, structure=None):
     """Orthonormal bases of the kernels of a stack of matrices of one numerical rank, shape=[b, columns,
     columns − rank].
 
@@ -523,7 +523,7 @@ def _kernel_bases(matrices, rank, structure=None):
         bases, trusted = _arrow_bases(matrices, structure)
         rest = np.flatnonzero(~trusted)
         if len(rest):
-            bases[rest] = _kernel_bases(matrices[rest], rank)
+            bases[rest] = kernel_bases(matrices[rest], rank)
         return bases
     if rank == rows and rows <= columns:
         orthogonal = np.linalg.qr(np.swapaxes(matrices, -1, -2), mode="complete")[0]

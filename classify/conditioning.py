@@ -336,13 +336,13 @@ def tangent_bases(mechanism, points):
     from mechanisms import closure_and_jacobian
     from mechanisms.kinematics import kinematics_of
 
-    from .batch import _kernel_bases
+    from .batch import kernel_bases
 
     points = np.atleast_2d(np.asarray(points, dtype=float))
     _, _, constraint = closure_and_jacobian(mechanism, points)
     scales = kinematics_of(mechanism).ambient.tangent_scales
     scaled = np.asarray(constraint, dtype=float) * scales
-    return scales[:, None] * _kernel_bases(scaled, _constraint_rank(scaled))
+    return scales[:, None] * kernel_bases(scaled, _constraint_rank(scaled))
 
 
 def _constraint_rank(scaled):

@@ -14,7 +14,7 @@ import pytest
 from classify import model_of
 from classify import batch as batch_module
 from classify import metrics
-from classify.batch import _arrow_structure, _certified, _kernel_bases, classify_many
+from classify.batch import _arrow_structure, _certified, kernel_bases, classify_many
 from classify.metrics import jacobi_singular_values, singular_values
 from manifold import sample_manifold
 from mechanisms import catalogue
@@ -102,7 +102,7 @@ def test_block_arrow_bases_span_the_kernel(name):
     assert len(structure.shared) == legs and structure.own.shape == (loops, legs)
     jacobian = model.manifold.constraint_jacobian(points) * model.manifold.ambient.tangent_scales
     rank = jacobian.shape[1]
-    fast, general = _kernel_bases(jacobian, rank, structure), _kernel_bases(jacobian, rank)
+    fast, general = kernel_bases(jacobian, rank, structure), kernel_bases(jacobian, rank)
     np.testing.assert_allclose(fast @ np.swapaxes(fast, -1, -2), general @ np.swapaxes(general, -1, -2), atol=1e-12)
     np.testing.assert_allclose(np.swapaxes(fast, -1, -2) @ fast, np.broadcast_to(np.eye(legs), (len(fast), legs, legs)),
                                atol=1e-12)
@@ -111,7 +111,7 @@ def test_block_arrow_bases_span_the_kernel(name):
     broken[0][np.ix_(structure.rows[0], structure.own[0])] = 0.0
     bases, trusted = batch_module._arrow_bases(broken, structure)
     assert not trusted[0] and trusted[1:].all()
-    kernel = _kernel_bases(broken, rank, structure)
+    kernel = kernel_bases(broken, rank, structure)
     assert np.abs(broken @ kernel).max() < 1e-12
 
 
