@@ -76,7 +76,7 @@ def loci_picture(mechanism, start, survey, caption, seed=0):
     dof = mechanism.ambient_dimension - survey.constraint_rank
     if dof not in (1, 2, 3):
         return None
-    columns = default_columns(mechanism, dof)
+    columns = default_columns(mechanism, dof, start)
     loci = trace_loci(mechanism, start, columns=columns if dof > 1 else None,
                       counts=SECTIONS_GRID if dof == 3 else LOCI_GRID, rng=np.random.default_rng(seed), survey=survey)
     if dof > 1 and not loci.coverage["reached"]:  # the grid reached no configuration from the start: nothing to draw

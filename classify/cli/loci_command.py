@@ -241,7 +241,7 @@ def run(arguments, out):
                          f"dof")
     columns, ranges, counts = _grid(arguments, mechanism, dof)
     coordinates = _coordinates(arguments.coordinates, mechanism,
-                               columns if columns is not None else default_columns(mechanism, dof))
+                               columns if columns is not None else default_columns(mechanism, dof, start))
     loci = trace_loci(mechanism, start, columns=columns, ranges=ranges, counts=counts, kinds=kinds,
                       rng=np.random.default_rng(arguments.seed), survey=survey, assembly_branches=arguments.branches)
     from ..loci import locus_coordinates

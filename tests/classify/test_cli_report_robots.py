@@ -73,9 +73,9 @@ def test_report_html_draws_the_imported_robot(tmp_path, capsys):
                             "--output", str(tmp_path / "report.txt")], capsys)
     assert status == 0, err
     document = page.read_text(encoding="utf-8")
-    # the configuration drawn; no loci: of its 3 dof one is the welded leaf joints' idle spin, which the default
-    # section coordinates (mot2, free1 | mot1) do not fix, so their grid reaches no configuration from home
-    assert document.count('src="data:image/png;base64,') == 1
+    # the configuration drawn, and the C-space in sections (3 dof, one the welded leaf joints' idle spin: the
+    # sections are over a coordinate that moves it)
+    assert document.count('src="data:image/png;base64,') == 2
     assert "robot.urdf: home" in document
 
 

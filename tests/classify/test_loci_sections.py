@@ -144,3 +144,26 @@ def test_sections_drawn_as_panels(hybrid):
         lines = [line for line in axes.lines if (line.get_gid() or "").startswith("locus:")]
         assert len(lines) == sum(piece.section == entry["value"] for piece in loci.pieces) > 0
         assert axes.get_xlabel() == "A" and axes.get_ylabel() == "B" and axes.get_title().startswith("base = ")
+
+
+def test_default_coordinates_at_a_start_are_local_coordinates_of_m():
+    """A 3-dof mechanism whose third freedom no actuated coordinate moves (the imported 5-bar: the idle spin of
+    its welded leaf joints): the rule's coordinates do not fix that spin, so a grid over them reaches nothing;
+    given the start, the default keeps the two motors as the grid's axes and adds the coordinate a pivoted QR of
+    the tangent basis picks, and the sections' grid is reached."""
+    pytest.importorskip("yourdfpy")
+    from tests.builders import ROBOTS
+    from mechanisms import home
+    from mechanisms.urdf import read_urdf
+
+    mechanism = read_urdf(ROBOTS / "5bar_linkage" / "robot.urdf", ROBOTS / "5bar_linkage" / "robot.yaml").mechanism
+    start = home(mechanism)
+    rule = default_columns(mechanism, 3)
+    chosen = default_columns(mechanism, 3, start)
+    names = [mechanism.coordinate_names[column] for column in chosen]
+    assert names[:2] == ["mot1", "mot2"] and chosen != rule
+    assert trace_loci(mechanism, start, columns=rule, counts=(6, 6, 2)).coverage["reached"] == 0
+    assert trace_loci(mechanism, start, columns=chosen, counts=(6, 6, 2)).coverage["reached"] > 0
+    # where the rule's coordinates are local coordinates, they are kept (the hybrid: A, B, then the base angle)
+    hybrid = catalogue_mechanism("hybrid")
+    assert default_columns(hybrid, 3, home(hybrid)) == default_columns(hybrid, 3)
