@@ -66,7 +66,7 @@ from dataclasses import dataclass
 import numpy as np
 
 __all__ = ["Grid", "grid_targets", "held_columns", "held_entries", "assemble_grid", "grid_neighbours",
-           "regular_start", "StartingPoint", "REGULAR_RTOL", "NEIGHBOUR_STEPS", "assemble_branches",
+           "regular_start", "held_margins", "StartingPoint", "REGULAR_RTOL", "NEIGHBOUR_STEPS", "assemble_branches",
            "BRANCH_SEPARATION"]
 
 #: ‖Φ‖ of an assembled grid point (the default of :func:`mechanisms.assemble`)
@@ -336,8 +336,11 @@ def _continue(mechanism, sources, targets, held, entries):
     return current, ok
 
 
-def _held_margins(mechanism, points, held):
-    """``σ_r(DΦ_free·s) / σ₁(DΦ·s)`` at each point, r the numerical rank of DΦ·s there, shape=[n]."""
+def held_margins(mechanism, points, held):
+    """``σ_r(DΦ_free·s) / σ₁(DΦ·s)`` at each point, r the numerical rank of DΦ·s there, shape=[n].
+
+    Above :data:`REGULAR_RTOL`, the `held` tangent coordinates are independent coordinates of M there: the loops
+    can be solved for the others (the implicit-function theorem)."""
     from manifold import rank_of_values
     from mechanisms.kinematics import constraint_jacobian, kinematics_of
 
@@ -380,7 +383,7 @@ def regular_start(mechanism, start, held):
 
     ambient = kinematics_of(mechanism).ambient
     start = np.asarray(start, dtype=float)
-    margin = float(_held_margins(mechanism, start, held)[0])
+    margin = float(held_margins(mechanism, start, held)[0])
     if margin > REGULAR_RTOL:
         return StartingPoint(start, False, 0.0, margin)
     scales = ambient.tangent_scales
@@ -392,7 +395,7 @@ def regular_start(mechanism, start, held):
         guesses = ambient.retract(np.broadcast_to(start, (len(directions), start.size)), size * directions * scales)
         corrected, residuals = _correct(mechanism, guesses, np.arange(ambient.dim), 4 * _CORRECTOR_ITERATIONS)
         moved = np.linalg.norm(ambient.inverse_retract(start, corrected) / scales, axis=-1)
-        margins = _held_margins(mechanism, corrected, held)
+        margins = held_margins(mechanism, corrected, held)
         good = ((residuals <= _TOLERANCE) & np.asarray(closes(mechanism, corrected, _TOLERANCE), dtype=bool)
                 & (moved <= 2 * size) & (margins > REGULAR_RTOL))
         if good.any():
@@ -501,7 +504,7 @@ def assemble_grid(mechanism, start, targets, shape, held, bar=None, with_start=F
         candidates = candidates[~reached[candidates]]
     if with_start:
         if starting is None or not starting.moved:
-            margin = float(_held_margins(mechanism, given, held)[0])
+            margin = float(held_margins(mechanism, given, held)[0])
             starting = StartingPoint(given, margin <= REGULAR_RTOL, 0.0, margin)
         return points, reached, starting
     return points, reached

@@ -102,7 +102,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-__all__ = ["default_columns", "COORDINATE_TOLERANCE", "TOLERANCE", "STEP_LIMIT", "SECTION_COUNT", "LocusPiece", "Loci",
+__all__ = ["default_columns", "TOLERANCE", "STEP_LIMIT", "SECTION_COUNT", "LocusPiece", "Loci",
            "sign_functions", "trace_loci", "TRACEABLE_KINDS", "locus_coordinates", "cspace_function", "search_cspace",
            "CSPACE_TOLERANCE", "CSPACE_ITERATIONS", "redundant_actuator_function", "sign_magnitudes", "ZERO_TOLERANCE"]
 
@@ -122,9 +122,6 @@ CSPACE_ITERATIONS = 200
 ZERO_TOLERANCE = 1e-9
 #: sections of a 3-dof locus when the caller gives no count
 SECTION_COUNT = 4
-#: a choice of coordinates is local coordinates of M at a point when the rows of an orthonormal tangent basis
-#: there (dimensionless) have a smallest singular value above this (:func:`default_columns`)
-COORDINATE_TOLERANCE = 1e-6
 #: finite-difference step of ∇s (dimensionless)
 _DIFFERENCE = 1e-6
 
@@ -1047,15 +1044,16 @@ def default_columns(mechanism, dof, point=None):
     the last two and the first, else the second and third coordinates and
     the first.
 
-    Given `point` (2 and 3 dof), the choice must also be local coordinates of
-    M there or at a neighbour on M (:func:`classify.grid_continuation.regular_start`;
-    at an actuator singularity the actuated coordinates fail at the point
-    only): the rows of a tangent basis T (dimensionless, orthonormal columns)
-    at those coordinates have a smallest singular value above
-    :data:`COORDINATE_TOLERANCE`. Where the rule's choice fails (an idle
-    spin that no actuated coordinate moves, say), the independent actuated
-    coordinates are kept, in order, and completed by the coordinates a
-    column-pivoted QR of Tᵀ picks (the most independent first).
+    Given `point` (2 and 3 dof), the choice must also be independent
+    coordinates of M there or at a neighbour on M
+    (:func:`classify.grid_continuation.regular_start`; at an actuator
+    singularity the actuated coordinates fail at the point only), as the grid
+    continuation holds them (:func:`classify.grid_continuation.held_margins`
+    above :data:`classify.grid_continuation.REGULAR_RTOL`). Where the rule's
+    choice fails (an idle spin that no actuated coordinate moves, say), the
+    independent actuated coordinates are kept, in order, and completed by
+    the coordinates a column-pivoted QR of the other columns of DΦ·s leaves
+    after the r it picks to solve the loops for (r the rank of DΦ·s).
 
     Parameters
     ----------
@@ -1079,50 +1077,27 @@ def default_columns(mechanism, dof, point=None):
         columns = actuated[1:] + actuated[:1] if len(actuated) == 3 else [1, 2, 0]
     if point is None:
         return columns
-    basis = _tangent_rows(mechanism, point)
-    if basis.shape[1] != dof or _smallest_singular_value(basis[columns]) > COORDINATE_TOLERANCE:
-        return columns
-    from .grid_continuation import REGULAR_RTOL, regular_start
-
-    if regular_start(mechanism, point, columns).margin > REGULAR_RTOL:
-        return columns  # singular for them at `point` only (an actuator singularity): local coordinates nearby
     import scipy.linalg
 
+    from manifold import rank_of_values
+    from mechanisms.kinematics import constraint_jacobian, kinematics_of
+
+    from .grid_continuation import REGULAR_RTOL, held_margins, regular_start
+
+    if regular_start(mechanism, point, columns).margin > REGULAR_RTOL:
+        return columns
     chosen = []
     for column in actuated:
-        if len(chosen) < dof and _smallest_singular_value(basis[chosen + [column]]) > COORDINATE_TOLERANCE:
+        if len(chosen) < dof and held_margins(mechanism, point, chosen + [column])[0] > REGULAR_RTOL:
             chosen.append(column)
-    rest = [column for column in range(len(basis)) if column not in chosen]
-    if chosen:  # what the kept coordinates leave of the tangent space
-        projector = np.linalg.qr(basis[chosen].T)[0]
-        remaining = basis[rest] - (basis[rest] @ projector) @ projector.T
-    else:
-        remaining = basis[rest]
-    _, _, order = scipy.linalg.qr(remaining.T, pivoting=True)
-    chosen += [rest[index] for index in order[: dof - len(chosen)]]
+    rest = [column for column in range(mechanism.ambient_dimension) if column not in chosen]
+    scaled = constraint_jacobian(mechanism, point) * kinematics_of(mechanism).ambient.tangent_scales
+    rank = rank_of_values(np.linalg.svd(scaled, compute_uv=False)).rank
+    order = scipy.linalg.qr(scaled[:, rest], pivoting=True)[2]
+    chosen += [rest[index] for index in order[rank:]][: dof - len(chosen)]
     if dof == 3 and len(actuated) >= 2 and chosen[0] in actuated and chosen[1] in actuated:
         return chosen  # the actuated coordinates as the grid's axes, the added one the section's
     return chosen[1:] + chosen[:1] if dof == 3 else chosen
-
-
-def _tangent_rows(mechanism, point):
-    """An orthonormal basis of ker DΦ(point) in the dimensionless coordinates, shape=[k, m] (m from the numerical
-    rank of the scaled DΦ, cut at :data:`COORDINATE_TOLERANCE` of its largest singular value)."""
-    from mechanisms import constraint_jacobian
-    from mechanisms.kinematics import kinematics_of
-
-    scaled = np.asarray(constraint_jacobian(mechanism, point), dtype=float) * kinematics_of(
-        mechanism).ambient.tangent_scales
-    _, values, right = np.linalg.svd(scaled)
-    rank = int(np.sum(values > COORDINATE_TOLERANCE * values[0])) if values.size and values[0] > 0 else 0
-    return right[rank:].T
-
-
-def _smallest_singular_value(rows):
-    """The smallest singular value of a square-or-wide block of rows (0 for more rows than columns)."""
-    if rows.shape[0] > rows.shape[1]:
-        return 0.0
-    return float(np.linalg.svd(rows, compute_uv=False)[-1]) if rows.size else 0.0
 
 
 def locus_coordinates(mechanism, points, coordinates):

@@ -149,8 +149,8 @@ def test_sections_drawn_as_panels(hybrid):
 def test_default_coordinates_at_a_start_are_local_coordinates_of_m():
     """A 3-dof mechanism whose third freedom no actuated coordinate moves (the imported 5-bar: the idle spin of
     its welded leaf joints): the rule's coordinates do not fix that spin, so a grid over them reaches nothing;
-    given the start, the default keeps the two motors as the grid's axes and adds the coordinate a pivoted QR of
-    the tangent basis picks, and the sections' grid is reached."""
+    given the start, the default keeps the two motors as the grid's axes and adds a coordinate that a pivoted QR
+    of DΦ·s leaves free, and the sections' grid is reached."""
     pytest.importorskip("yourdfpy")
     from tests.builders import ROBOTS
     from mechanisms import home
