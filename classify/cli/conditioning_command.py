@@ -98,17 +98,11 @@ def _length_option(text):
 
 
 def _axis(text):
-    name, separator, rest = text.partition("=")
-    fields = rest.split(":")
-    if not separator or len(fields) != 3:
-        raise InputError(f"--grid {text[:40]!r}: expected NAME=a:b:n")
-    try:
-        start, stop, count = float(fields[0]), float(fields[1]), int(fields[2])
-    except ValueError:
-        raise InputError(f"--grid {text[:40]!r}: a and b must be numbers and n an integer") from None
-    if not (math.isfinite(start) and math.isfinite(stop)) or count < 1 or (count == 1 and start != stop):
-        raise InputError(f"--grid {text[:40]!r}: expected finite a, b and an integer n ≥ 1 (n = 1 needs a = b)")
-    return name.strip().upper(), (start, stop, count)
+    """``(NAME, (a, b, n))`` of a --grid axis, the name upper-cased (:func:`classify.cli._grid.parse_axis`)."""
+    from ._grid import parse_axis
+
+    name, start, stop, count = parse_axis(text)
+    return name.upper(), (start, stop, count)
 
 
 def _paper_grid(texts, entry):
