@@ -59,7 +59,7 @@ CLOSURE_TYPES = ("6d", "3d")
 JOINT_RETYPES = ("SPHERICAL", "FIXED", "CARDAN")
 _KEYS = ("closed_loop", "type", "name_mot", "joint_name", "joint_type", "end_effector", "rotule_name")
 #: the convention's own keys: a file with keys not read and none of these is another kind of file, refused
-_CONVENTION_KEYS = ("closed_loop", "type", "name_mot", "joint_name", "joint_type", "rotule_name")
+_CONVENTION_KEYS = tuple(key for key in _KEYS if key != "end_effector")
 _END_EFFECTOR_KEYS = ("frame", "output", "axis")
 #: what an end-effector may output (as :class:`mechanisms.joints.EndEffector`)
 END_EFFECTOR_OUTPUTS = ("position", "orientation", "pose", "tool")
