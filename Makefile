@@ -14,12 +14,13 @@ $(BIN)/closedchain: pyproject.toml
 demo: $(BIN)/closedchain
 	$(BIN)/closedchain report --output report.txt --html report.html
 
-# the docs first (warnings are errors, so they cannot rot), then the suite, whose summary closes the output
-test: docs
+# the suite; the docs build (warnings are errors, so they cannot rot) and their examples are among its tests
+test: $(BIN)/closedchain
 	$(BIN)/python -m pytest -n auto
 
+# the docs alone, the gallery's scripts run in parallel
 docs: $(BIN)/closedchain
-	$(BIN)/python -m sphinx -W -q -b html docs docs/_build/html
+	$(BIN)/python -m sphinx -j auto -W -q -b html docs docs/_build/html
 	$(BIN)/python -m sphinx -W -q -b doctest docs docs/_build/doctest
 
 bench: $(BIN)/closedchain

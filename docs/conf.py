@@ -68,7 +68,7 @@ html_title = "closedchain"
 
 # The gallery of the papers' figures (docs/gallery, one folder per paper): sphinx-gallery runs each
 # ``plot_*.py`` once and writes docs/gallery_output (not versioned); a later build (the doctest one of
-# ``make docs``) finds the scripts unchanged and their outputs present, and does not run them again.
+# ``make docs`` and of tests/test_docs.py) finds the scripts unchanged and their outputs present, and does not run them again.
 sphinx_gallery_conf = {
     "examples_dirs": "gallery",
     "gallery_dirs": "gallery_output",
@@ -82,6 +82,8 @@ sphinx_gallery_conf = {
                          "gallery/borras_thomas_torras_2011"],
     "within_subsection_order": "FileNameSortKey",
     "download_all_examples": False,
+    # the examples run in parallel when Sphinx does (``sphinx -j auto``, as ``make docs``), through joblib
+    "parallel": True,
     "abort_on_example_error": True,
     "only_warn_on_example_error": False,
     "remove_config_comments": True,

@@ -254,3 +254,15 @@ def pytest_generate_tests(metafunc):
 def malformed_cases():
     """The whole list ``MALFORMED_CASES``."""
     return MALFORMED_CASES
+
+
+def pytest_collection_modifyitems(items):
+    """Order the run for ``pytest -n auto --dist loadfile`` (with ``--no-loadscope-reorder``): the docs build
+    (``tests/test_docs.py``, the longest single test) first, so one worker starts it while the other takes the
+    rest; then the files by decreasing number of tests (xdist's own default order), each file's tests in
+    their own order."""
+    by_file = {}
+    for item in items:
+        by_file.setdefault(item.nodeid.split("::")[0], []).append(item)
+    files = sorted(by_file, key=lambda name: (not name.endswith("tests/test_docs.py"), -len(by_file[name])))
+    items[:] = [item for name in files for item in by_file[name]]

@@ -1,0 +1,27 @@
+"""The documentation builds with warnings as errors (``sphinx -W -b html``), its gallery scripts included.
+
+A test of the suite rather than a step before it: under ``pytest -n auto``
+this one long test (sphinx-gallery runs every script of docs/gallery, about
+a minute) shares the machine with the rest of the suite instead of delaying
+it; ``tests/conftest.py`` puts it first so that a worker starts it first.
+The gallery's outputs go to docs/gallery_output (sphinx-gallery writes
+beside its sources and skips a script whose output is up to date). The
+pages' own examples run as doctests of the suite (``--doctest-glob="*.rst"``,
+docs/conftest.py), the docstrings' with ``--doctest-modules``.
+"""
+
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+DOCS = Path(__file__).resolve().parents[1] / "docs"
+
+
+def test_docs_build_without_warnings(tmp_path):
+    pytest.importorskip("sphinx_gallery", reason="the docs extra (pip install -e '.[docs]') is not installed")
+    finished = subprocess.run([sys.executable, "-m", "sphinx", "-W", "--keep-going", "-q", "-b", "html", str(DOCS),
+                               str(tmp_path / "html")], capture_output=True, text=True, timeout=1800)
+    assert finished.returncode == 0, (f"sphinx -b html failed (exit {finished.returncode}):\n"
+                                      f"{finished.stdout[-4000:]}\n{finished.stderr[-4000:]}")
