@@ -10,9 +10,7 @@ light submodule (the command line's, :mod:`classify.text`) does not import
 SymPy or SciPy: ``from classify import classify`` works as usual.
 """
 
-import importlib
-import sys
-import types
+from manifold._lazy import attach
 
 #: exported name → the submodule that defines it (imported when the name is first used)
 _SOURCES = {
@@ -34,30 +32,4 @@ _SOURCES = {
     **dict.fromkeys(("Survey", "survey", "survey_of"), ".survey"),
 }
 
-__all__ = list(_SOURCES)
-
-
-def __getattr__(name):
-    """The exported `name`, its submodule imported on first use."""
-    if name not in _SOURCES:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    value = getattr(importlib.import_module(_SOURCES[name], __name__), name)
-    globals()[name] = value
-    return value
-
-
-def __dir__():
-    return sorted(set(globals()) | set(_SOURCES))
-
-
-class _Package(types.ModuleType):
-    """This package, whose exported ``survey`` (the function) a later import of :mod:`classify.survey` (the
-    module, which the import system sets as an attribute of its package) does not hide."""
-
-    def __setattr__(self, name, value):
-        if name in _SOURCES and isinstance(value, types.ModuleType):
-            return
-        super().__setattr__(name, value)
-
-
-sys.modules[__name__].__class__ = _Package
+__getattr__, __dir__, __all__ = attach(__name__, _SOURCES)

@@ -8,7 +8,7 @@ The names below are imported on first use (PEP 562): importing
 :mod:`manifold.errors` alone costs nothing more.
 """
 
-import importlib
+from ._lazy import attach
 
 #: exported name → the submodule that defines it (imported when the name is first used)
 _SOURCES = {
@@ -23,17 +23,4 @@ _SOURCES = {
     **dict.fromkeys(("LocalRank", "largest_rank", "local_rank", "sample_manifold"), ".sampling"),
 }
 
-__all__ = list(_SOURCES)
-
-
-def __getattr__(name):
-    """The exported `name`, its submodule imported on first use."""
-    if name not in _SOURCES:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    value = getattr(importlib.import_module(_SOURCES[name], __name__), name)
-    globals()[name] = value
-    return value
-
-
-def __dir__():
-    return sorted(set(globals()) | set(_SOURCES))
+__getattr__, __dir__, __all__ = attach(__name__, _SOURCES)

@@ -9,9 +9,7 @@ the catalogue's list (:mod:`mechanisms.catalogue`) cost no numerical import:
 ``from mechanisms import Mechanism`` works as usual.
 """
 
-import importlib
-import sys
-import types
+from manifold._lazy import attach
 
 #: exported name → the submodule that defines it (imported when the name is first used)
 _SOURCES = {
@@ -31,32 +29,4 @@ _SOURCES = {
     **dict.fromkeys(("MechanismDocument", "load", "loads", "read", "save"), ".io"),
 }
 
-__all__ = list(_SOURCES)
-
-
-def __getattr__(name):
-    """The exported `name`, its submodule imported on first use (``catalogue`` is a subpackage: ``from
-    mechanisms import catalogue`` imports it as usual)."""
-    if name not in _SOURCES:
-        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
-    value = getattr(importlib.import_module(_SOURCES[name], __name__), name)
-    globals()[name] = value
-    return value
-
-
-def __dir__():
-    return sorted(set(globals()) | set(_SOURCES))
-
-
-class _Package(types.ModuleType):
-    """This package, whose exported ``configuration`` (the function) a later import of
-    :mod:`mechanisms.configuration` (the module, which the import system sets as an attribute of its package)
-    does not hide."""
-
-    def __setattr__(self, name, value):
-        if name in _SOURCES and isinstance(value, types.ModuleType):
-            return
-        super().__setattr__(name, value)
-
-
-sys.modules[__name__].__class__ = _Package
+__getattr__, __dir__, __all__ = attach(__name__, _SOURCES)
