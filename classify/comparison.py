@@ -109,7 +109,7 @@ def correspondence(report, result, consistent=True):
     note : str
     """
     expected = expected_kinds(report)
-    pk = ", ".join(report.kinds) or "regular"
+    pk = report.label
     if not result.defined:
         if result.undefined in ("not_finite", "not_differentiable"):
             reason = "not_differentiable"
@@ -124,7 +124,7 @@ def correspondence(report, result, consistent=True):
         else:
             reason = "stationary_motion"
         return False, reason, f"G–A undefined ({result.detail}); Park–Kim: {pk}"
-    ga = ", ".join(result.kinds) or "regular"
+    ga = result.label  # defined here
     if not consistent:
         return False, "inconsistent_relation", f"F does not describe this configuration; G–A: {ga}; Park–Kim: {pk}"
     if result.kinds == expected:
@@ -233,7 +233,7 @@ class Comparison:
         table = []
         for row in self.rows:
             report, ga = row.park_kim, row.gosselin_angeles
-            pk = ", ".join(report.kinds) or "regular"
+            pk = report.label
             if report.degeneracy:
                 pk += f" ({report.degeneracy})"
             rank = (lambda value: "-" if value is None else f"{value}/{ga.n}")

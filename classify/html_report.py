@@ -121,7 +121,7 @@ def html_report(rows, pictures=None, title="closedchain report", summary="", leg
         parts.append(f'<h2 id="source-{number}">{_escape(source)}</h2>')
         parts += [_picture(picture) for picture in pictures.get((source, None), ())]
         for row in (row for row in rows if row.source == source):
-            kinds = ", ".join(row.report.kinds) or "regular"
+            kinds = row.report.label
             parts.append(f"<h3>{_escape(row.name)}: {_escape(kinds)}</h3>")
             parts += [_picture(picture) for picture in pictures.get((source, row.name), ())]
             parts.append(f"<details><summary>classification</summary><pre>{_escape(row.report.to_text())}</pre>"

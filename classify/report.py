@@ -213,6 +213,11 @@ class Report:
         return tuple(kind for kind in KINDS if results[kind] is not None and results[kind].singular)
 
     @property
+    def label(self):
+        """The kinds that hold, comma-separated, or ``"regular"``: for tables and captions."""
+        return ", ".join(self.kinds) or "regular"
+
+    @property
     def singular(self):
         return bool(self.kinds)
 

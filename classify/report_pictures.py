@@ -45,7 +45,7 @@ def configuration_picture(mechanism, point, report, caption):
     """
     from .figures.drawing import draw_mechanism
 
-    kinds = ", ".join(report.kinds) or "regular"
+    kinds = report.label
     figure = draw_mechanism(mechanism, point, report=report, title=f"{mechanism.name}: {kinds}")
     return Picture(caption, figure_png(figure))
 

@@ -261,7 +261,7 @@ def table_cells(rows):
     for row in (ReportRow(*row) for row in rows):
         report = row.report
         lines.append((printable(row.source), printable(row.name), str(report.dof),
-                      ", ".join(report.kinds) or "regular", _rank(report.cspace), _actuator_cell(report),
+                      report.label, _rank(report.cspace), _actuator_cell(report),
                       _rank(report.end_effector), _condition_cell(report),
                       _gosselin_angeles_cell(row.comparison, row.outputs)))
     return header, lines

@@ -30,7 +30,7 @@ for index, (name, (where, paper)) in enumerate(stated.items()):
     mechanism = entry.mechanism(name)
     point = configuration(mechanism).point
     report = classify(mechanism, point)
-    found = ", ".join(report.kinds) or "regular"
+    found = report.label
     draw_mechanism(mechanism, point, report=report, axes=figure.add_subplot(2, 2, index + 1, projection="3d"),
                    title=f"{where}: {found}")
     print(f"{where} ({name}): paper: {paper};  found: {found}; rank G {report.actuator.rank}/"

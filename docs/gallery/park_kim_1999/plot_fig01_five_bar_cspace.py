@@ -27,7 +27,7 @@ for index, panel in enumerate("abcd"):
     mechanism = entry.mechanism(name)
     point = configuration(mechanism).point
     report = classify(mechanism, point)
-    found = ", ".join(report.kinds) or "regular"
+    found = report.label
     draw_mechanism(mechanism, point, report=report, axes=figure.add_subplot(2, 2, index + 1),
                    title=f"Fig. 1{panel}: {found}")
     print(f"Fig. 1{panel} ({name}): paper: rank ∇Φ < 3 (C-space singular); found: rank DΦ "

@@ -35,7 +35,7 @@ for index, (name, (panel, paper)) in enumerate(stated.items()):
     mechanism = entry.mechanism(name)
     point = configuration(mechanism).point
     report = classify(mechanism, point)
-    found = ", ".join(report.kinds) or "regular"
+    found = report.label
     axes = figure.add_subplot(2, 2, index + 1)
     draw_mechanism(mechanism, point, report=report, axes=axes, title=f"Fig. 3{panel}: {found}")
     ranks = ", ".join(f"{kind} rank {result.rank}/{result.expected_rank}" for kind, result in

@@ -45,7 +45,7 @@ reports = {"coplanar axes (home)": (home, classify(mechanism, home)),
 
 figure = Figure(figsize=(10, 5), layout="constrained")
 for index, (name, (point, report)) in enumerate(reports.items()):
-    found = ", ".join(report.kinds) or "regular"
+    found = report.label
     draw_mechanism(mechanism, point, report=report, axes=figure.add_subplot(1, 2, index + 1, projection="3d"),
                    title=f"{name}: {found}\nrank DΦ {report.cspace.rank}/{report.cspace.expected_rank}")
 figure.suptitle("Park & Kim 1999 Fig. 5 (dimensions: this script's own)", fontsize=10)

@@ -30,7 +30,7 @@ for index, (name, (number, paper)) in enumerate(stated.items()):
     mechanism = entry.mechanism(name)
     point = configuration(mechanism).point
     report = classify(mechanism, point)
-    found = ", ".join(report.kinds) or "regular"
+    found = report.label
     if report.actuator.singular:
         found += f" ({report.degeneracy})"
     draw_mechanism(mechanism, point, report=report, axes=figure.add_subplot(1, 3, index + 1, projection="3d"),

@@ -26,7 +26,7 @@ for index, (name, (number, paper)) in enumerate(stated.items()):
     mechanism = entry.mechanism(name)
     point = configuration(mechanism).point
     report = classify(mechanism, point)
-    found = ", ".join(report.kinds) or "regular"
+    found = report.label
     draw_mechanism(mechanism, point, report=report, axes=figure.add_subplot(1, 2, index + 1),
                    title=f"Fig. {number}: {found}")
     print(f"Fig. {number} ({name}): paper: {paper};  found: {found}; "
