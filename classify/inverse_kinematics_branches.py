@@ -12,12 +12,14 @@ Chablat, Wenger & Angeles 1998 §3.3.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
 from .working_modes import WorkingMode
 
-__all__ = ["inverse_kinematics_branches", "mechanism_working_modes", "output_targets", "follow_working_mode",
-           "BRANCH_TOLERANCE", "BRANCH_SEPARATION", "STEP_JUMP"]
+__all__ = ["inverse_kinematics_branches", "mechanism_working_modes", "cartesian_outputs", "output_targets",
+           "follow_working_mode", "BRANCH_TOLERANCE", "BRANCH_SEPARATION", "STEP_JUMP"]
 
 #: ‖Φ‖ and end-effector residual (relative to the characteristic length) of an inverse-kinematics solution
 BRANCH_TOLERANCE = 1e-10
@@ -268,6 +270,47 @@ def _coordinate_values(mechanism, point):
 
 
 # ------------------------------------------------------------------------------------------------ Cartesian grids
+
+def cartesian_outputs(mechanism, point, names, axes):
+    """The output coordinates of every point of a Cartesian grid, shape=[g, d], in C order: (x, y[, z]) of a
+    position output, (x, y, φ) of a planar pose (φ, when not on the grid, the configuration's own: its link's
+    rotation from home).
+
+    Parameters
+    ----------
+    mechanism : Mechanism
+    point : ndarray, shape=[point_size]
+    names : sequence of str
+        The grid's axes, among ``x``, ``y``, ``z``, ``φ``.
+    axes : sequence of array_like
+        The values along each.
+
+    Raises
+    ------
+    ValueError
+        Naming the axes the output needs, when the grid's do not fit it, or for an output that is neither a
+        position nor a planar pose.
+    """
+    from mechanisms.kinematics import end_effector, end_effector_dimension, kinematics_of
+
+    compiled = kinematics_of(mechanism)
+    columns = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, len(axes))
+    by_name = dict(zip(names, columns.T))
+    if compiled.output == "pose" and compiled.space == "planar":
+        if "z" in by_name:
+            raise ValueError("a planar pose's Cartesian grid is over x, y and φ, not z")
+        frame = end_effector(mechanism, np.asarray(point, dtype=float)[None])[0]
+        turn = np.full(len(columns), math.atan2(frame[1, 0], frame[0, 0]))
+        return np.stack([by_name["x"], by_name["y"], by_name.get("φ", turn)], axis=-1)
+    if compiled.output == "position":
+        wanted = ("x", "y", "z")[:end_effector_dimension(mechanism)]
+        if set(by_name) != set(wanted):
+            raise ValueError(f"{mechanism.name}'s output is a position ({', '.join(wanted)}): the Cartesian grid "
+                             f"needs exactly those axes")
+        return np.stack([by_name[name] for name in wanted], axis=-1)
+    raise ValueError(f"a Cartesian grid needs a position or planar pose output; {mechanism.name}'s is a "
+                     f"{compiled.space} {compiled.output} (grid its joint coordinates instead)")
+
 
 def output_targets(mechanism, values):
     """End-effector values from output coordinates: a position (x, y[, z]) as it is; a planar pose

@@ -14,6 +14,11 @@ out of reach in the working mode) of each matrix over a grid. The papers' maps:
   nor B, eqs. 22, 24-25), so isoconditioning surfaces are surfaces of
   revolution.
 
+Any other mechanism (n inputs = n outputs = n dof) is mapped from its batched
+Jacobians (:func:`mechanism_map`), over a grid of joint coordinates
+(:func:`joint_grid_maps`) or of output coordinates (:func:`cartesian_grid_maps`),
+one map per working mode.
+
 The global conditioning index of a mode and a matrix is the mean of 1/κ over
 the reachable grid points (Table 1 of the 2002 paper, "the average value of
 the condition number in the Cartesian workspace"; the published values are
@@ -29,6 +34,7 @@ import numpy as np
 from .conditioning import MATRICES, condition_numbers
 
 __all__ = ["SINGULAR_INVERSE", "ConditioningMap", "three_prr_map", "five_bar_cartesian_map", "five_bar_joint_map",
+           "joint_grid_maps", "cartesian_grid_maps",
            "hybrid_plane_map", "hybrid_map", "mechanism_map", "contours"]
 
 #: 1/κ at or below which a reachable grid point counts as singular (κ ≥ 10⁶)
@@ -357,6 +363,86 @@ def mechanism_map(mechanism, points, reachable, axes, axis_names, length=None, m
                            "singular_value_ratio",
                            {"singular": kinds.any(axis=1).reshape(shape), "kinds": kinds.reshape(shape + (3,)),
                             "points": points.reshape(shape + (points.shape[-1],)), "derived": bool(derived)})
+
+
+def joint_grid_maps(mechanism, modes, grid, length=None, derived=False):
+    """Maps of any mechanism over a grid of its joint coordinates, one per working mode, as ``closedchain
+    conditioning --grid NAME=a:b:n …`` draws them.
+
+    Each mode's grid is assembled by continuation from the mode's
+    configuration (:func:`classify.grid_continuation.assemble_grid`, the
+    grid's coordinates held as :func:`~classify.grid_continuation.held_columns`
+    says), so it stays on that branch; then :func:`mechanism_map`.
+
+    Parameters
+    ----------
+    mechanism : Mechanism
+    modes : sequence of WorkingMode
+        E.g. :func:`classify.inverse_kinematics_branches.mechanism_working_modes`.
+    grid : classify.grid_continuation.Grid
+    length : float, optional
+        The characteristic length L (default the mechanism's).
+    derived : bool
+        Also κ(A), κ(B) of the derived relation (:func:`mechanism_map`).
+
+    Returns
+    -------
+    list of ConditioningMap
+        One per mode, labelled with the mode's label.
+    """
+    from .grid_continuation import assemble_grid, grid_targets, held_columns
+
+    held = held_columns(mechanism, grid)
+    maps = []
+    for mode in modes:
+        points, reachable = assemble_grid(mechanism, mode.point, grid_targets(mechanism, grid, mode.point),
+                                          grid.shape, held)
+        maps.append(mechanism_map(mechanism, points, reachable, grid.axes(), grid.names, length, mode.label,
+                                  derived=derived))
+    return maps
+
+
+def cartesian_grid_maps(mechanism, modes, names, axes, point, length=None, derived=False):
+    """Maps of any mechanism over a grid of its output coordinates, one per working mode, as ``closedchain
+    conditioning --grid X=a:b:n Y=a:b:n …`` draws them.
+
+    Each mode is followed over the grid without crossing a serial
+    singularity (:func:`classify.inverse_kinematics_branches.follow_working_mode`);
+    then :func:`mechanism_map`.
+
+    Parameters
+    ----------
+    mechanism : Mechanism
+        With a position output, or a planar pose output.
+    modes : sequence of WorkingMode
+    names : sequence of str
+        The grid's axes: ``x``, ``y``, ``z`` or ``φ``
+        (:func:`classify.inverse_kinematics_branches.cartesian_outputs`).
+    axes : sequence of ndarray
+        The values along each axis.
+    point : ndarray, shape=[point_size]
+        A configuration: a planar pose's φ when it is not on the grid.
+    length, derived
+        As :func:`joint_grid_maps`.
+
+    Returns
+    -------
+    list of ConditioningMap
+
+    Raises
+    ------
+    ValueError
+        For axes that do not fit the output (:func:`~classify.inverse_kinematics_branches.cartesian_outputs`).
+    """
+    from .inverse_kinematics_branches import cartesian_outputs, follow_working_mode, output_targets
+
+    targets = output_targets(mechanism, cartesian_outputs(mechanism, point, names, axes))
+    shape = tuple(len(axis) for axis in axes)
+    maps = []
+    for mode in modes:
+        points, reachable = follow_working_mode(mechanism, mode.point, targets, shape)
+        maps.append(mechanism_map(mechanism, points, reachable, axes, names, length, mode.label, derived=derived))
+    return maps
 
 
 def contours(conditioning_map, matrix, levels):

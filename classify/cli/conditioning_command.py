@@ -338,16 +338,13 @@ def _hybrid_maps(arguments, mechanism, length):
 
 
 def _general_maps(arguments, mechanism, point, length):
-    """Maps of any mechanism over a joint grid (--grid NAME=a:b:n …), one per working mode (IK branch)."""
-    import numpy as np
-
-    from mechanisms import to_displacements
-
-    from ..isoconditioning import mechanism_map
-    from ..inverse_kinematics_branches import mechanism_working_modes
-    from . import _configurations as configurations
+    """Maps of any mechanism over a joint grid (--grid NAME=a:b:n …) or a Cartesian one (--grid X=… Y=…), one
+    per working mode (IK branch): :func:`classify.isoconditioning.joint_grid_maps` and
+    :func:`~classify.isoconditioning.cartesian_grid_maps`."""
+    from ..grid_continuation import held_columns
+    from ..inverse_kinematics_branches import cartesian_outputs, mechanism_working_modes
+    from ..isoconditioning import cartesian_grid_maps, joint_grid_maps
     from ._grid import parse_grid
-    from ..grid_continuation import assemble_grid, held_columns
 
     cartesian = _cartesian_grid(arguments.grid, mechanism)
     grid = None if cartesian is not None else parse_grid(arguments.grid, mechanism)
@@ -359,30 +356,19 @@ def _general_maps(arguments, mechanism, point, length):
             raise InputError(f"--grid: at most {GENERAL_GRID_LIMIT} points over all the working modes mapped "
                              f"(a general mechanism's map assembles and classifies every point)")
         chosen = _modes(arguments.mode, [mode.label for mode in modes])
+        mapped = [mode for mode in modes if mode.label in chosen]
+        derived = arguments.matrix in ("A", "B")
         if cartesian is not None:
-            from ..inverse_kinematics_branches import follow_working_mode, output_targets
-
             names, axes, values = cartesian
-            targets = output_targets(mechanism, _output_values(mechanism, point, names, axes))
-            shape = tuple(len(axis) for axis in axes)
             held, description = None, {name: list(value) for name, value in zip(names, values)}
+            try:
+                cartesian_outputs(mechanism, point, names, axes)  # the axes fit the output (a cheap check first)
+            except ValueError as error:
+                raise InputError(f"--grid: {error}") from None
+            maps = cartesian_grid_maps(mechanism, mapped, names, axes, point, found.value, derived=derived)
         else:
-            held = held_columns(mechanism, grid)
-            names, axes, shape, description = grid.names, grid.axes(), grid.shape, grid.to_dict()
-        maps = []
-        for mode in modes:
-            if mode.label not in chosen:
-                continue
-            if cartesian is not None:
-                points, reachable = follow_working_mode(mechanism, mode.point, targets, shape)
-            else:
-                start = configurations.displacement_vector(mechanism, to_displacements(mechanism, mode.point))
-                requested = np.array(np.broadcast_to(start, (grid.size, start.size)))
-                requested[:, list(grid.columns)] = grid.values().reshape(grid.size, len(grid.columns))
-                points, reachable = assemble_grid(mechanism, mode.point, configurations.points_of(mechanism, requested),
-                                                  grid.shape, held)
-            maps.append(mechanism_map(mechanism, points, reachable, axes, names, found.value, mode.label,
-                                      derived=arguments.matrix in ("A", "B")))
+            held, description = held_columns(mechanism, grid), grid.to_dict()
+            maps = joint_grid_maps(mechanism, mapped, grid, found.value, derived=derived)
     except ValueError as error:
         raise InputError(str(error)) from None
     return ({"relation": "derived", "normalisation": _DERIVED_NORMALISATION, "matrix": arguments.matrix,
@@ -411,32 +397,6 @@ def _cartesian_grid(texts, mechanism):
     order = [name for name in CARTESIAN_AXES if name in axes]
     return (tuple(name.lower() if name != "PHI" else "φ" for name in order),
             tuple(np.linspace(*axes[name]) for name in order), tuple(axes[name] for name in order))
-
-
-def _output_values(mechanism, point, names, axes):
-    """The output coordinates of every grid point, shape=[g, d]: (x, y[, z]) or (x, y, φ) — a planar pose's φ,
-    when not on the grid, is the configuration's own (its link's rotation from home)."""
-    import numpy as np
-
-    from mechanisms.kinematics import end_effector, end_effector_dimension, kinematics_of
-
-    compiled = kinematics_of(mechanism)
-    columns = np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, len(axes))
-    by_name = dict(zip(names, columns.T))
-    if compiled.output == "pose" and compiled.space == "planar":
-        frame = end_effector(mechanism, point[None])[0]
-        turn = np.full(len(columns), math.atan2(frame[1, 0], frame[0, 0]))
-        if "z" in by_name:
-            raise InputError("--grid: a planar pose's Cartesian grid is over X, Y and PHI, not Z")
-        return np.stack([by_name["x"], by_name["y"], by_name.get("φ", turn)], axis=-1)
-    if compiled.output == "position":
-        wanted = ("x", "y", "z")[:end_effector_dimension(mechanism)]
-        if set(by_name) != set(wanted):
-            raise InputError(f"--grid: this mechanism's output is a position ({', '.join(wanted).upper()}): "
-                             f"the Cartesian grid needs exactly those axes")
-        return np.stack([by_name[name] for name in wanted], axis=-1)
-    raise InputError(f"--grid: a Cartesian grid needs a position or planar pose output; this one is a "
-                     f"{compiled.space} {compiled.output} (grid its joint coordinates instead)")
 
 
 _DERIVED_NORMALISATION = ("A-1B, B-1A: J̄ = H^½ Df T (E^½ Dπ T)⁻¹ (batched); lambda: Park & Kim's λ₁/λₙ "

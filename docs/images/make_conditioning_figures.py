@@ -67,19 +67,15 @@ def main():
 def _five_bar_general_figure():
     """The general engine's Cartesian maps of the five-bar, one per working mode it finds and follows."""
     from classify.figures.conditioning import isoconditioning_figure
-    from classify.isoconditioning import mechanism_map
-    from classify.inverse_kinematics_branches import follow_working_mode, mechanism_working_modes, output_targets
+    from classify.isoconditioning import cartesian_grid_maps
+    from classify.inverse_kinematics_branches import mechanism_working_modes
     from mechanisms import catalogue, configuration
 
     item = catalogue.entry("five-bar")
     mechanism = item.assemble(dict(item.configurations["fig2_working_mode_pp"]))
     point = configuration(mechanism, {}).point
-    xs, ys = np.linspace(-8.0, 14.0, 45), np.linspace(-12.0, 12.0, 49)
-    targets = output_targets(mechanism, np.stack(np.meshgrid(xs, ys, indexing="ij"), axis=-1).reshape(-1, 2))
-    maps = []
-    for mode in mechanism_working_modes(mechanism, point):
-        points, reached = follow_working_mode(mechanism, mode.point, targets, (len(xs), len(ys)))
-        maps.append(mechanism_map(mechanism, points, reached, (xs, ys), ("x", "y"), mode=mode.label))
+    axes = (np.linspace(-8.0, 14.0, 45), np.linspace(-12.0, 12.0, 49))
+    maps = cartesian_grid_maps(mechanism, mechanism_working_modes(mechanism, point), ("x", "y"), axes, point)
     return isoconditioning_figure(maps, "A-1B")
 
 

@@ -183,3 +183,17 @@ def test_bad_input_exits_2_with_one_line(arguments, message, capsys):
     err = capsys.readouterr().err
     assert status == 2 and out == ""
     assert message in err and err.count("\n") == 1
+
+
+def test_a_cartesian_grid_that_does_not_fit_a_files_output_exits_2(tmp_path, capsys):
+    """A general mechanism's Cartesian grid names exactly its output's axes: the five-bar's P is (x, y)."""
+    from mechanisms import catalogue
+    from mechanisms.io import save
+
+    item = catalogue.entry("five-bar")
+    path = tmp_path / "five_bar.json"
+    save(item.assemble(dict(item.configurations["fig2_working_mode_pp"])), str(path))
+    status, out, _ = run("conditioning", str(path), "--grid", "X=-8:14:3", "Y=-12:12:3", "Z=0:1:2")
+    err = capsys.readouterr().err
+    assert status == 2 and out == ""
+    assert "--grid:" in err and "output is a position (x, y)" in err and err.count("\n") == 1

@@ -2,6 +2,7 @@
 length, and the hybrid's 3-D map (Chablat, Caro, Wenger & Angeles 2002; Chablat, Wenger & Angeles 1998)."""
 
 import math
+import re
 
 import numpy as np
 import pytest
@@ -9,7 +10,8 @@ import pytest
 from classify.characteristic_length import mechanism_optimal_length, three_prr_kappa, three_prr_leg_angles
 from classify.conditioning import mechanism_condition_numbers
 from classify.conditioning_matrices import three_prr_pose_of
-from classify.isoconditioning import hybrid_map, hybrid_plane_map, mechanism_map
+from classify.isoconditioning import (cartesian_grid_maps, hybrid_map, hybrid_plane_map, joint_grid_maps,
+                                      mechanism_map)
 from classify.inverse_kinematics_branches import mechanism_working_modes
 from classify.working_modes import five_bar_working_modes, three_prr_working_modes
 from mechanisms import catalogue, configuration, end_effector, to_displacements
@@ -24,16 +26,11 @@ def _entry_mechanism(name, configuration_name=None, **parameters):
 
 def _assembled_grid(mechanism, start, names, starts, stops, counts):
     """The grid of ``closedchain map`` (continuation on the start's branch), as the command assembles it."""
-    from classify.cli import _configurations as configurations
-    from classify.cli._grid import Grid
-    from classify.grid_continuation import assemble_grid, held_columns
+    from classify.grid_continuation import Grid, assemble_grid, grid_targets, held_columns
 
     columns = tuple(mechanism.coordinate_names.index(name) for name in names)
     grid = Grid(tuple(names), columns, tuple(starts), tuple(stops), tuple(counts))
-    base = configurations.displacement_vector(mechanism, to_displacements(mechanism, start))
-    requested = np.array(np.broadcast_to(base, (grid.size, base.size)))
-    requested[:, list(columns)] = grid.values().reshape(grid.size, len(columns))
-    points, reachable = assemble_grid(mechanism, start, configurations.points_of(mechanism, requested), grid.shape,
+    points, reachable = assemble_grid(mechanism, start, grid_targets(mechanism, grid, start), grid.shape,
                                       held_columns(mechanism, grid))
     return grid, points, reachable
 
@@ -199,16 +196,10 @@ def test_general_figure_marks_singular_points(stretched_map):
 def five_bar_cartesian_maps():
     """The catalogue's five-bar mapped by the general engine over P = (x, y), one map per working mode found
     (its inverse-kinematics branches, each followed over the grid without crossing a serial singularity)."""
-    from classify.inverse_kinematics_branches import follow_working_mode, output_targets
-
     mechanism, point = _entry_mechanism("five-bar", "fig2_working_mode_pp")
     xs, ys = np.linspace(-8.0, 14.0, 12), np.linspace(-12.0, 12.0, 13)
-    values = np.stack(np.meshgrid(xs, ys, indexing="ij"), axis=-1).reshape(-1, 2)
-    maps = []
-    for mode in mechanism_working_modes(mechanism, point, count=24):
-        points, reachable = follow_working_mode(mechanism, mode.point, output_targets(mechanism, values), (12, 13))
-        maps.append(mechanism_map(mechanism, points, reachable, (xs, ys), ("x", "y"), mode=mode.label))
-    return xs, ys, maps
+    modes = mechanism_working_modes(mechanism, point, count=24)
+    return xs, ys, cartesian_grid_maps(mechanism, modes, ("x", "y"), (xs, ys), point)
 
 
 def test_general_cartesian_maps_are_the_papers_working_modes(five_bar_cartesian_maps):
@@ -230,3 +221,46 @@ def test_general_cartesian_maps_are_the_papers_working_modes(five_bar_cartesian_
                 assert np.count_nonzero(both) >= 0.8 * np.count_nonzero(reference.reachable)
                 break
     assert sorted(matched) == ["++", "+-", "-+", "--"]
+
+
+def test_joint_grid_maps_follow_each_working_mode():
+    """One map per working mode of the five-bar's Fig. 2 pose (1998 §3.3), each over a grid of the actuated
+    angles centred on the mode's own: the centre is the mode's configuration, with its κ, and the mode's label."""
+    from classify.grid_continuation import Grid
+
+    mechanism, point = _entry_mechanism("five-bar", "fig2_working_mode_pp")
+    modes = mechanism_working_modes(mechanism, point, count=24)
+    columns = tuple(mechanism.coordinate_names.index(name) for name in ("A", "B"))
+    for index, mode in enumerate(modes):
+        centre = np.array([to_displacements(mechanism, mode.point)[name] for name in ("A", "B")])
+        grid = Grid(("A", "B"), columns, tuple(centre - 0.1), tuple(centre + 0.1), (3, 3))
+        conditioning_map = joint_grid_maps(mechanism, modes, grid)[index]
+        assert conditioning_map.mode == mode.label and conditioning_map.reachable[1, 1]
+        np.testing.assert_allclose(conditioning_map.extra["points"][1, 1], mode.point, atol=1e-9)
+        single = mechanism_condition_numbers(mechanism, mode.point[None])
+        assert conditioning_map.inverse["A-1B"][1, 1] == pytest.approx(1.0 / single.values["A-1B"][0], rel=1e-9)
+
+
+@pytest.mark.parametrize("name, axes, message", [
+    ("five-bar", ("x", "y", "z"), "five-bar's output is a position (x, y)"),
+    ("3-prr", ("x", "y", "z"), "over x, y and φ, not z"),
+    ("gough-stewart", ("x", "y"), "a Cartesian grid needs a position or planar pose output"),
+])
+def test_cartesian_outputs_refuse_axes_that_do_not_fit_the_output(name, axes, message):
+    from classify.inverse_kinematics_branches import cartesian_outputs
+
+    mechanism, point = _entry_mechanism(name)
+    with pytest.raises(ValueError, match=re.escape(message)):
+        cartesian_outputs(mechanism, point, axes, [np.linspace(0.0, 1.0, 2)] * len(axes))
+
+
+def test_cartesian_outputs_of_a_planar_pose_keep_the_configurations_turn():
+    """φ off the grid is the configuration's own rotation of the end-effector's link."""
+    from classify.inverse_kinematics_branches import cartesian_outputs
+
+    mechanism, point = _entry_mechanism("3-prr")
+    frame = end_effector(mechanism, point[None])[0]
+    values = cartesian_outputs(mechanism, point, ("x", "y"), (np.linspace(0.0, 1.0, 2), np.linspace(0.0, 2.0, 3)))
+    assert values.shape == (6, 3)
+    np.testing.assert_allclose(values[:, 2], math.atan2(frame[1, 0], frame[0, 0]))
+    np.testing.assert_allclose(values[:, :2], [[0, 0], [0, 1], [0, 2], [1, 0], [1, 1], [1, 2]])
