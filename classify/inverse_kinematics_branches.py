@@ -23,8 +23,12 @@ __all__ = ["inverse_kinematics_branches", "mechanism_working_modes", "cartesian_
 
 #: ‖Φ‖ and end-effector residual (relative to the characteristic length) of an inverse-kinematics solution
 BRANCH_TOLERANCE = 1e-10
-#: two solutions closer than this (dimensionless tangent distance) are one working mode
-BRANCH_SEPARATION = 1e-6
+#: two solutions closer than this (dimensionless tangent distance) are one working mode: 10·√tolerance. At a
+#: serial singularity two branches meet in a double root, where Gauss–Newton converges only linearly and its
+#: solutions scatter by about √‖residual‖ along the root's direction (the five-bar with a stretched leg: by up to
+#: 6e-6 with residuals under 1e-10, whose count of distinct solutions then depended on rounding); a regular root
+#: is found to about 1e-14
+BRANCH_SEPARATION = 10 * math.sqrt(BRANCH_TOLERANCE)
 #: largest dimensionless joint move of one continuation step between neighbouring grid points (a larger one
 #: is taken for a jump to another branch; the sign of det(Df T) is the finer guard, so this only has to stop
 #: the wild ones: 1.5 lets a 12 × 13 grid over the five-bar's workspace cover each mode, 0.5 does not)
@@ -47,7 +51,8 @@ def inverse_kinematics_branches(mechanism, point, rng=None, count=64, rounds=10,
     ``q_a ⊕ (q_b ⊖ point)`` of two known ones (a parallel mechanism's legs flip independently), until two
     rounds find no new one.
     Solutions whose coordinates (revolute angles modulo 2π, divided by the tangent scales) differ by less
-    than :data:`BRANCH_SEPARATION` are one. A search, not a proof: a branch no start falls into is missed.
+    than ``10·√tolerance`` (:data:`BRANCH_SEPARATION` by default) are one: at a serial singularity, where two
+    branches meet, the solutions found scatter by about √tolerance. A search, not a proof: a branch no start falls into is missed.
 
     Parameters
     ----------
@@ -82,12 +87,13 @@ def inverse_kinematics_branches(mechanism, point, rng=None, count=64, rounds=10,
                        tolerance)
 
     found, coordinates = [], []
+    separation = 10 * math.sqrt(tolerance)
 
     def keep(candidates):
         new = 0
         for candidate in candidates:
             values = _coordinate_values(mechanism, candidate)
-            if all(np.linalg.norm(_wrapped(values - known, revolute) / scales) > BRANCH_SEPARATION
+            if all(np.linalg.norm(_wrapped(values - known, revolute) / scales) > separation
                    for known in coordinates):
                 found.append(candidate)
                 coordinates.append(values)

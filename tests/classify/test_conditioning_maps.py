@@ -117,6 +117,18 @@ def test_five_bar_working_modes_from_the_inverse_kinematics_branches():
     np.testing.assert_allclose(found, expected, atol=1e-6)
 
 
+@pytest.mark.parametrize("seed", range(4))
+def test_a_serial_singular_pose_has_its_merged_modes_whatever_the_starts(seed):
+    """At a serial singularity two working modes meet (1998 §3.3): with the left leg stretched the five-bar's
+    pose has two inverse-kinematics branches, the right leg's two elbows. Gauss–Newton reaches the double
+    root only to ~√tolerance, so the count must not depend on the starts (it did, at a 1e-6 separation)."""
+    mechanism, point = _entry_mechanism("five-bar", "eq3c_left_leg_stretched")
+    modes = mechanism_working_modes(mechanism, point, rng=np.random.default_rng(seed), count=24)
+    assert len(modes) == 2
+    assert abs(modes[1].angles[1] - modes[0].angles[1]) > 0.1   # the right elbow flipped, the left leg not
+    assert abs(modes[1].angles[0] - modes[0].angles[0]) < 1e-4
+
+
 def test_three_prr_eight_working_modes_from_the_branches():
     """2002 §3.5: eight working modes at the pose of Fig. 4a; each is one sign pattern of B's diagonal."""
     mechanism, point = _entry_mechanism("3-prr", "fig4a_isotropic")
