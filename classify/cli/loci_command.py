@@ -160,6 +160,11 @@ def _piece(mechanism, piece, coordinates):
     return entry
 
 
+#: below this share of the grid reached on the start's assembly branch, the text suggests a finer grid or more
+#: branches (a degenerate five-bar's 16 × 16 grid over a turn of each actuator reaches 9 points, its 18 × 18 one 100)
+SPARSE_GRID = 0.1
+
+
 def _text(document):
     coverage = document["coverage"]
     lines = [f"loci of {printable(document['mechanism'])} ({coverage['dof']} dof), shown in "
@@ -173,6 +178,9 @@ def _text(document):
             sections = f" in {count} section(s) {printable(name)} from {low:.4g} to {high:.4g}"
         lines.append(f"  grid: {grid}{sections}; {coverage['reached']} of {coverage['grid_points']} points "
                      f"reached")
+        if "assembly_branches" not in coverage and coverage["reached"] < SPARSE_GRID * coverage["grid_points"]:
+            lines.append("  few grid points are on the start's assembly branch and connected to it at this "
+                         "spacing: a finer --grid or --branches 2 may seed more loci")
     if "branches" in coverage:
         closed = sum(coverage["branches_closed"])
         lines.append(f"  branches of M: {coverage['branches']} ({closed} closed), from {coverage['samples']} "

@@ -21,7 +21,7 @@ from classify.working_modes import (
     sign_pattern, five_bar_working_modes, three_prr_mode_pairs, three_prr_rotation_classes,
     three_prr_working_modes,
 )
-from mechanisms import flip_axis, home, link_pose, move_base, rehome
+from mechanisms import flip_axis, home, move_base, rehome
 
 ROOT_TWO_R = math.sqrt(2.0) * 100.0          # L = √2 r sin γ at γ = π/2 (Chablat et al. 2002 §3.4)
 FIG4A = np.array([0.0, 0.0, math.pi / 3])    # the catalogue's isotropic pose (Chablat et al. 2002 Fig. 4a)

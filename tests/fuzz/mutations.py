@@ -274,7 +274,7 @@ def _alias(data, text, rng):
     content, suffix = _yaml(data)
     first = data["joints"][0]["links"][0]
     return content.replace(f"links: [{first}", f"links: [&link {first}", 1).replace(
-        "description:", f"alias_of_link: *link\ndescription:", 1), suffix
+        "description:", "alias_of_link: *link\ndescription:", 1), suffix
 
 
 def _merge_key(data, text, rng):

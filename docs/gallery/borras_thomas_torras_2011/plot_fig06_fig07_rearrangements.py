@@ -20,8 +20,6 @@ is not at B), refused.
 """
 
 # %%
-import numpy as np
-
 from classify.figures.line_plane import draw_rearrangement, locus_slice
 from classify.line_plane import (
     RearrangementError, b_line_direction, b_point, line_plane_design, move_base, move_platform,

@@ -25,7 +25,6 @@ L = √2 r sin γ (:func:`classify.characteristic_length.three_prr_length`).
 # %%
 import math
 
-import numpy as np
 from matplotlib.figure import Figure
 
 from classify import classify
