@@ -268,7 +268,10 @@ def parallel_distal_pose(*, base, l1, l2, l3, direction, guess=(0.5, 0.3, 0.0)):
 def leg_aligned_pose(*, base, l1, l2, l3, phi, heading, stretched=True, modes=(1, 1, 1)):
     """The pose at orientation φ with leg 1 stretched or folded along `heading` (eq. 58).
 
-    A₁ = M₁ + (l₁ ± l₂) e(heading), then (x, y) = A₁ + l₃ e(φ₁) (eq. 54).
+    A₁ = M₁ + (l₁ ± l₂) e(heading), then (x, y) = A₁ + l₃ e(φ₁) (eq. 54). Leg 1's input is given
+    (mode 0): θ₁ = heading, or heading + π for a folded leg with l₁ < l₂. Solved from the pose instead,
+    ψ₁ of eq. (53) is the double root of an arccosine, found only to √ε ≈ 1e-8 (whether the rounded
+    cosine lands on 1 or just below depends on the floating-point library), not to rounding.
 
     Parameters
     ----------
@@ -281,19 +284,29 @@ def leg_aligned_pose(*, base, l1, l2, l3, phi, heading, stretched=True, modes=(1
     stretched : bool
         l₁ and l₂ end to end (True) or folded (False).
     modes : tuple of three int
-        Working modes of the legs (leg 1's two modes coincide there).
+        Working modes of the legs; leg 1's is not used (its two modes coincide there, θ₁ is given).
 
     Returns
     -------
     dict
-        ``x``, ``y``, ``phi``, ``mode1``, ``mode2``, ``mode3`` for :func:`planar_3rrr`.
+        ``x``, ``y``, ``phi``, ``mode1`` (0), ``theta1``, ``mode2``, ``mode3`` for :func:`planar_3rrr`.
     """
     reach = l1 + l2 if stretched else abs(l1 - l2)
     vertex = motor_centres(base)[0] + reach * np.array([math.cos(heading), math.sin(heading)])
     angle = phi + _VERTEX_OFFSETS[0]
     centre = vertex + l3 * np.array([math.cos(angle), math.sin(angle)])
+    elbow_turn = math.pi if not stretched and l1 < l2 else 0.0
     return {"x": float(centre[0]), "y": float(centre[1]), "phi": phi,
-            "mode1": modes[0], "mode2": modes[1], "mode3": modes[2]}
+            "mode1": 0, "theta1": heading + elbow_turn, "mode2": modes[1], "mode3": modes[2]}
+
+
+def _elbows_towards(point, base=1.0):
+    """θ₁, θ₂, θ₃ (mode 0) that point each proximal link from its motor towards `point` (x, y)."""
+    values = {}
+    for leg, motor in enumerate(motor_centres(base), start=1):
+        values[f"mode{leg}"] = 0
+        values[f"theta{leg}"] = math.atan2(point["y"] - motor[1], point["x"] - motor[0])
+    return values
 
 
 #: The default design of :func:`planar_3rrr` (the named configurations are computed for it).
@@ -318,8 +331,9 @@ ENTRIES = (
               # ... and eq. (63): the distal links parallel.
               "eq63_distal_links_parallel": parallel_distal_pose(**DEFAULT_DESIGN, direction=math.radians(100)),
               # Kind III, eq. (64): elbows on the base centroid, gripper centroid there too, φ = 0 ...
-              "eq64_elbows_at_centroid": {**EQ64_DESIGN, **_CENTROID, "phi": 0.0,
-                                          "mode1": 1, "mode2": 1, "mode3": 1},
+              # (the legs folded, both working modes meeting: the inputs given, not solved from the pose's
+              # double roots)
+              "eq64_elbows_at_centroid": {**EQ64_DESIGN, **_CENTROID, "phi": 0.0, **_elbows_towards(_CENTROID)},
               # ... and turned (the gripper turns freely about its centroid with the motors locked).
               "eq64_elbows_at_centroid_turned": {**EQ64_DESIGN, **_CENTROID, "phi": 0.5,
                                                  "mode1": 1, "mode2": 1, "mode3": 1},

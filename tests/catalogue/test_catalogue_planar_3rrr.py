@@ -31,8 +31,8 @@ EXPECTED_KINDS = {
 }
 #: Nearby configurations (parameter changes from the named one) that must be regular.
 NEARBY = {
-    "eq58_leg_stretched": {"shift": -0.01},  # the gripper 0.01 back along leg 1
-    "eq58_leg_folded": {"shift": 0.01},
+    "eq58_leg_stretched": {"shift": -0.01, "mode1": 1},  # the gripper 0.01 back along leg 1 (θ₁ solved again)
+    "eq58_leg_folded": {"shift": 0.01, "mode1": 1},
     "eq61_distal_links_concurrent": {"phi": 0.02},
     "eq63_distal_links_parallel": {"phi": 0.02},
     "eq64_elbows_at_centroid": {"phi": 0.05, "mode1": -1, "mode2": -1, "mode3": -1},
