@@ -141,9 +141,12 @@ def _file_kind(mode):
 
 
 def _os_reason(error):
-    """The reason of an OSError (or the ValueError of a path with a NUL byte), without the path."""
+    """The reason of an OSError (or the ValueError of a path with a NUL byte, in words of our own: Python's
+    differ between versions), without the path."""
     if isinstance(error, OSError) and error.strerror:
         return error.strerror
+    if isinstance(error, ValueError) and "null" in str(error):
+        return "the path has a NUL byte in it"
     return _reason(error)
 
 

@@ -512,7 +512,7 @@ def test_binary_file_is_refused_as_not_utf8(tmp_path):
 
 
 def test_path_with_a_nul_byte_is_refused(tmp_path):
-    with pytest.raises(MechanismError, match="cannot read the file: embedded null byte"):
+    with pytest.raises(MechanismError, match="cannot read the file: the path has a NUL byte in it"):
         read(str(tmp_path / "a\x00b.yaml"))
 
 
