@@ -52,7 +52,8 @@ def inverse_kinematics_branches(mechanism, point, rng=None, count=64, rounds=10,
     rounds find no new one.
     Solutions whose coordinates (revolute angles modulo 2π, divided by the tangent scales) differ by less
     than ``10·√tolerance`` (:data:`BRANCH_SEPARATION` by default) are one: at a serial singularity, where two
-    branches meet, the solutions found scatter by about √tolerance. A search, not a proof: a branch no start falls into is missed.
+    branches meet, the solutions found scatter by about √tolerance. A search, not a proof: a branch no start
+    falls into is missed.
 
     Parameters
     ----------
