@@ -141,12 +141,12 @@ def _file_kind(mode):
 
 
 def _os_reason(error):
-    """The reason of an OSError (or the ValueError of a path with a NUL byte, in words of our own: Python's
-    differ between versions), without the path."""
+    """The reason of an OSError, without the path; for the ValueError ``os.open`` raises only for a path with a
+    NUL byte, words of our own (Python's differ between versions)."""
+    if isinstance(error, ValueError):
+        return "the path has a NUL byte in it"
     if isinstance(error, OSError) and error.strerror:
         return error.strerror
-    if isinstance(error, ValueError) and "null" in str(error):
-        return "the path has a NUL byte in it"
     return _reason(error)
 
 

@@ -42,7 +42,7 @@ import stat
 import numpy as np
 
 from mechanisms import MechanismError
-from mechanisms._text import JSON_DECODER, DuplicateKey, TooManyDigits
+from mechanisms._text import JSON_DECODER, DuplicateKey, TooManyDigits, _os_reason
 from mechanisms.io import DIGITS_LIMIT, check_displacement, read_text_file
 from mechanisms.joints import COORDINATE_LIMIT
 
@@ -263,8 +263,7 @@ def _read_npy(path, mechanism, where):
     try:
         descriptor = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
     except (OSError, ValueError) as error:
-        raise InputError(f"{where}: cannot read the file: {printable(getattr(error, 'strerror', None) or error)}") \
-            from None
+        raise InputError(f"{where}: cannot read the file: {printable(_os_reason(error))}") from None
     try:
         status = os.fstat(descriptor)
     finally:

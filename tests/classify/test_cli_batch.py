@@ -357,6 +357,13 @@ def test_a_missing_or_special_file_is_refused(tmp_path, capsys):
         assert err.startswith(f"closedchain: error: --batch: {tmp_path / name}") and reason in err
 
 
+@pytest.mark.parametrize("suffix", [".json", ".npy"])
+def test_a_path_with_a_nul_byte_is_refused_in_the_same_words_for_every_format(tmp_path, capsys, suffix):
+    status, _, err = run(["classify", FIVE_BAR, "--batch", str(tmp_path / f"a\x00b{suffix}")], capsys)
+    assert status == 2 and err.count("\n") == 1, err
+    assert "cannot read the file: the path has a NUL byte in it" in err
+
+
 @pytest.mark.parametrize("extra, fragment", [
     (["--at", "{}"], "--at: does not apply with --batch"),
     (["--assemble"], "--assemble: does not apply with --batch"),
