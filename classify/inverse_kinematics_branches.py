@@ -23,12 +23,19 @@ __all__ = ["inverse_kinematics_branches", "mechanism_working_modes", "cartesian_
 
 #: ‖Φ‖ and end-effector residual (relative to the characteristic length) of an inverse-kinematics solution
 BRANCH_TOLERANCE = 1e-10
+
+
+def _separation(tolerance):
+    """The distance below which two solutions to `tolerance` are one branch: 10·√tolerance (see below)."""
+    return 10 * math.sqrt(tolerance)
+
+
 #: two solutions closer than this (dimensionless tangent distance) are one working mode: 10·√tolerance. At a
 #: serial singularity two branches meet in a double root, where Gauss–Newton converges only linearly and its
 #: solutions scatter by about √‖residual‖ along the root's direction (the five-bar with a stretched leg: by up to
 #: 6e-6 with residuals under 1e-10, whose count of distinct solutions then depended on rounding); a regular root
 #: is found to about 1e-14
-BRANCH_SEPARATION = 10 * math.sqrt(BRANCH_TOLERANCE)
+BRANCH_SEPARATION = _separation(BRANCH_TOLERANCE)
 #: largest dimensionless joint move of one continuation step between neighbouring grid points (a larger one
 #: is taken for a jump to another branch; the sign of det(Df T) is the finer guard, so this only has to stop
 #: the wild ones: 1.5 lets a 12 × 13 grid over the five-bar's workspace cover each mode, 0.5 does not)
@@ -88,7 +95,7 @@ def inverse_kinematics_branches(mechanism, point, rng=None, count=64, rounds=10,
                        tolerance)
 
     found, coordinates = [], []
-    separation = 10 * math.sqrt(tolerance)
+    separation = _separation(tolerance)
 
     def keep(candidates):
         new = 0
