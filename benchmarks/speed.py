@@ -18,6 +18,10 @@ paper's defaults) it measures, in one process:
 * **batched** ``classify_many(model, points)`` on a stack of distinct regular
   configurations of M (see :func:`walked_configurations`): configurations/s,
   median over repeats;
+* **every core** ``classify_many(model, points, workers=-1)``: the same stack,
+  its chunks (:func:`classify.batch.default_chunk`) in threads on every usable
+  core (:mod:`classify.threads`); configurations/s, and whether every column
+  equals the one-thread result exactly;
 * **loop** ``[classify(model, point) for point in points[:N]]`` on the first N
   of the same configurations: configurations/s, and the ratio batched ÷ loop;
 * **reference**: ``numpy.linalg.svd(DΦ, compute_uv=False)`` of the same stack
@@ -54,6 +58,8 @@ from manifold import sample_manifold, scaled_jacobian  # noqa: E402
 from mechanisms import catalogue, constraint_jacobian, home  # noqa: E402
 
 from classify import classify, classify_many, model_of, survey_of  # noqa: E402
+from classify.batch import default_chunk  # noqa: E402
+from classify.threads import thread_count  # noqa: E402
 
 #: seed of the walks that make the stacks of configurations
 SEED = 11
@@ -295,6 +301,12 @@ def measure(settings, quick, rng):
 
     warm, warm_times = timed(lambda: classify(model, points[0]), repeats=7 if quick else 21, warmups=2)
     batched, batched_times = timed(lambda: classify_many(model, points), repeats=repeats)
+    threaded, _ = timed(lambda: classify_many(model, points, workers=-1), repeats=repeats)
+    chunk = default_chunk(model, points[0])
+    threads = thread_count(-1, -(-batch_count // chunk))
+    one_thread, every_core = classify_many(model, points).arrays(), classify_many(model, points, workers=-1).arrays()
+    threads_agree = all(np.array_equal(every_core[key], column, equal_nan=column.dtype.kind == "f")
+                        for key, column in one_thread.items())
     loop_points = points[:loop_count]
     loop, _ = timed(lambda: [classify(model, point) for point in loop_points], repeats=1 if quick else 3)
 
@@ -329,6 +341,11 @@ def measure(settings, quick, rng):
         "loop_per_second": loop_rate,
         "loop_ms_per_configuration": 1e3 / loop_rate,
         "batched_over_loop": batched_rate / loop_rate,
+        "chunk": chunk,
+        "threads": threads,
+        "threaded_per_second": batch_count / threaded,
+        "threaded_over_loop": batch_count / threaded / loop_rate,
+        "threaded_equals_batched": bool(threads_agree),
         "svd_values_per_second": batch_count / svd_values,
         "svd_full_per_second": batch_count / svd_full,
         "batched_over_svd_values": batched_rate / (batch_count / svd_values),
@@ -352,8 +369,9 @@ def markdown(rows, machine_info, quick, load=None):
         + ("" if load is None else f"; load average {load[0]:.1f} at the start"),
         "",
         "| mechanism | DΦ | cold classify ms | survey ms | warm classify ms | batched conf/s (µs/conf) | "
-        "loop conf/s | batched ÷ loop | numpy SVD of DΦ, values / full, conf/s | batch = loop |",
-        "|---|---|---|---|---|---|---|---|---|---|",
+        "loop conf/s | batched ÷ loop | every core: threads, conf/s, ÷ loop | "
+        "numpy SVD of DΦ, values / full, conf/s | batch = loop |",
+        "|---|---|---|---|---|---|---|---|---|---|---|",
     ]
     for row in rows:
         shape = "×".join(map(str, row["jacobian_shape"]))
@@ -361,8 +379,10 @@ def markdown(rows, machine_info, quick, load=None):
             f"| {row['mechanism']} | {shape} | {row['cold_classify_ms']:.0f} | {row['survey_ms']:.0f} | "
             f"{row['warm_classify_ms']:.2f} | {_rate(row['batched_per_second'])} "
             f"({row['batched_us_per_configuration']:.1f}) | {_rate(row['loop_per_second'])} | "
-            f"{row['batched_over_loop']:.0f}× | {_rate(row['svd_values_per_second'])} / "
-            f"{_rate(row['svd_full_per_second'])} | {'yes' if row['batch_equals_loop'] else 'NO'} |")
+            f"{row['batched_over_loop']:.0f}× | {row['threads']}, {_rate(row['threaded_per_second'])}, "
+            f"{row['threaded_over_loop']:.0f}× | {_rate(row['svd_values_per_second'])} / "
+            f"{_rate(row['svd_full_per_second'])} | "
+            f"{'yes' if row['batch_equals_loop'] and row['threaded_equals_batched'] else 'NO'} |")
     return "\n".join(lines)
 
 

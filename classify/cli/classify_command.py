@@ -5,8 +5,9 @@ or the assembly with the ``--at`` joints held at exactly those values (:func:`me
 ``closedchain classify FILE|NAME --batch FILE.{json,jsonl,csv,npy} [--project] [--survey FILE]
 [--out FILE.{jsonl,json,csv,npz}] [--format json|text]``: classify many configurations at once, each given as
 ``--at`` gives one (joint displacements from home; the file formats and their limits in
-:mod:`classify.cli._batch_io`), with one :func:`classify.classify_many` call. With ``--project`` each is projected
-onto M first; otherwise a configuration that does not close the loops is refused, naming its row. Output: JSON
+:mod:`classify.cli._batch_io`), with one :func:`classify.classify_many` call (its chunks in threads on every
+usable core). With ``--project`` each is projected onto M first; otherwise a configuration that does not close
+the loops is refused, naming its row. Output: JSON
 lines (one object per configuration: ``row``, then :meth:`classify.Classifications.rows`, then the
 ``displacements`` of the configuration classified, and ``projection_distance`` with ``--project``) on stdout, or
 a compact table (``--format text``), or ``--out FILE``: ``.jsonl``, ``.json`` (a list of the same objects),
@@ -229,7 +230,7 @@ def _run_batch(arguments, out):
     _warn_serial(mechanism)
     model = model_of(mechanism, arguments.length_scale)
     survey = model_survey(arguments.survey, model)
-    result = classify_many(model, points, survey=survey, progress=show_progress())
+    result = classify_many(model, points, survey=survey, progress=show_progress(), workers=-1)
     displacements_matrix = displacements_of(mechanism, result.points)
     summary = "classified " + outputs.summary_line(outputs.kind_counts(result), len(result))
     if file_format == "npz":

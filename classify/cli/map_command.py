@@ -31,8 +31,8 @@ configuration with the grid coordinates set) is projected onto M
 every coordinate, the grid ones included; unreachable where projection
 fails. Each point reports its projection distance.
 
-Then one :func:`classify.classify_many` over the reachable points, with the
-mechanism's survey of M (``--survey FILE``: a cache file, read when it was
+Then one :func:`classify.classify_many` over the reachable points (its chunks
+in threads on every usable core), with the mechanism's survey of M (``--survey FILE``: a cache file, read when it was
 made for this mechanism, else computed and written).
 
 Output: per grid point its index, grid coordinates, whether it was reached,
@@ -230,7 +230,7 @@ def run(arguments, out):
     points, reachable, distance, starting = _configurations(arguments, mechanism, named, grid)
     model = model_of(mechanism, arguments.length_scale)
     survey = model_survey(arguments.survey, model)
-    result = classify_many(model, points[reachable], survey=survey, progress=show_progress())
+    result = classify_many(model, points[reachable], survey=survey, progress=show_progress(), workers=-1)
     displacements = displacements_of(mechanism, result.points)
     reached = int(reachable.sum())
     summary = {"total": grid.size, "reachable": reached, "unreachable": grid.size - reached,

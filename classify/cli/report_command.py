@@ -15,7 +15,6 @@ report does not depend on the number of jobs.
 from __future__ import annotations
 
 import functools
-import os
 import textwrap
 from collections import Counter
 from dataclasses import dataclass, replace
@@ -492,10 +491,6 @@ def _rows(task, seed, length_scale):
     return (_file_rows if task.is_file else _catalogue_rows)(task, seed, length_scale)
 
 
-def _available_cores():
-    return len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else (os.cpu_count() or 1)
-
-
 def run_tasks(tasks, seed=0, length_scale=None, jobs=None):
     """Every task's rows, in task order, with a progress bar; in `jobs` processes (1: in this one).
 
@@ -512,8 +507,9 @@ def _map_tasks(work, tasks, jobs, description):
     from concurrent.futures import ProcessPoolExecutor, as_completed
 
     from ..progress import progress_bar
+    from ..threads import available_cores
 
-    jobs = min(_available_cores() if jobs is None else jobs, len(tasks))
+    jobs = min(available_cores() if jobs is None else jobs, len(tasks))
     with progress_bar(sum(len(task.names) for task in tasks), description) as progress:
         if jobs <= 1:
             results = []

@@ -8,14 +8,16 @@ Chablat et al. 2002, Chablat, Wenger & Angeles 1998, Borràs, Thomas & Torras
 
 import importlib
 import json
+import tracemalloc
 
 import numpy as np
 import pytest
 
+from builders import ladder
 from classify import KINDS, Survey, classify, model_of
 from classify.batch import classify_many
 from classify.survey import survey_of
-from manifold import sample_manifold, tangent_basis
+from manifold import implicit, sample_manifold, tangent_basis
 from mechanisms import ConfigurationError, catalogue
 
 #: the module (``classify.survey`` the attribute is the function it exports)
@@ -108,6 +110,70 @@ def test_a_point_off_the_c_space_is_named_by_its_index():
     points[2, 0] += 0.1
     with pytest.raises(ConfigurationError, match="configuration 2"):
         classify_many(mechanism, points)
+
+
+@pytest.mark.parametrize("name, configuration", [("five-bar", "fig13_combined"), ("planar-3rrr", None),
+                                                   ("gough-stewart", "eq87_parallel_legs")])
+def test_threads_over_the_chunks_give_the_same_columns_bit_for_bit(name, configuration):
+    """Chunks of three configurations (regular ones and, at a named configuration, singular ones classified one
+    at a time) in 1, 2 or every usable thread: every column identical, not merely close."""
+    mechanism = catalogue.entry(name).mechanism(configuration)
+    model = model_of(mechanism)
+    points = _stack(model, seed=12, walk_count=6)
+    serial = classify_many(model, points, chunk=3).arrays()
+    assert len(points) > 6 and serial["singular"].any() == (configuration is not None)
+    for workers in (2, -1):
+        threaded = classify_many(model, points, chunk=3, workers=workers).arrays()
+        assert threaded.keys() == serial.keys()
+        for key, column in serial.items():
+            np.testing.assert_array_equal(threaded[key], column, err_msg=f"{key}, workers={workers}")
+
+
+def test_threads_name_the_first_configuration_off_the_c_space_in_order():
+    mechanism = catalogue.entry("five-bar").mechanism()
+    points = np.repeat(model_of(mechanism).starts, 20, axis=0)
+    points[[7, 15], 0] += 0.1
+    with pytest.raises(ConfigurationError, match="configuration 7:"):
+        classify_many(mechanism, points, chunk=2, workers=2)
+
+
+@pytest.mark.parametrize("workers", [0, -2, 1.5, True, "2"])
+def test_a_bad_number_of_workers_is_refused_before_the_survey(workers, monkeypatch):
+    monkeypatch.setattr(batch_module, "survey_of", lambda *arguments: pytest.fail("survey computed"))
+    mechanism = catalogue.entry("five-bar").mechanism()
+    with pytest.raises(ValueError, match="workers"):
+        classify_many(mechanism, model_of(mechanism).starts, workers=workers)
+
+
+@pytest.mark.parametrize("name", ["five-bar", "planar-3rrr", "gough-stewart"])
+def test_a_default_chunk_holds_the_same_entries_of_dphi_whatever_the_mechanism(name):
+    mechanism = catalogue.entry(name).mechanism()
+    model = model_of(mechanism)
+    rows, size = model.manifold.constraint_jacobian(model.starts[0]).shape
+    chunk = batch_module.default_chunk(model, model.starts[0])
+    assert rows * size * chunk <= implicit.CHUNK_ENTRIES < rows * size * (chunk + 1)
+
+
+def test_the_memory_of_a_stack_of_a_large_mechanism_is_bounded_by_its_chunks():
+    """A ladder of 100 four-bar loops (DΦ 300 × 400, 1 MiB a configuration): 24 configurations in default chunks
+    (8 a chunk, :data:`manifold.implicit.CHUNK_ENTRIES` = 8 MiB of DΦ) peak at about 40 MiB; as one chunk at
+    about 120 MiB (a fixed chunk of 4096 configurations would have taken some 20 GB)."""
+    mechanism = ladder(100)
+    model = model_of(mechanism)
+    survey_of(model)
+    points = np.repeat(model.starts[:1], 24, axis=0)
+    assert batch_module.default_chunk(model, points[0]) == 8
+    peaks = {}
+    for chunk in (None, 24):
+        tracemalloc.start()
+        try:
+            tracemalloc.reset_peak()
+            result = classify_many(model, points, chunk=chunk)
+            peaks[chunk] = tracemalloc.get_traced_memory()[1]
+        finally:
+            tracemalloc.stop()
+        assert len(result) == 24 and not result.singular.any()
+    assert peaks[None] < 6 * 8 * 2 ** 20 < peaks[24], {chunk: f"{peak / 2 ** 20:.0f} MiB" for chunk, peak in peaks.items()}
 
 
 def test_rows_json_lines_and_arrays_agree():
