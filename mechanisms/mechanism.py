@@ -106,7 +106,7 @@ class Mechanism:
         two points of a link is below :data:`SMALLEST_LENGTH` (but not mere
         rounding); a mechanism whose dense algorithms would need more than
         :data:`DENSE_MEMORY_LIMIT` bytes (:func:`dense_memory_estimate`; a
-        ladder of 100 planar four-bar loops, 400 joints, needs 0.4 GB).
+        ladder of 100 planar four-bar loops, 400 joints, needs 2.2 MB).
 
     Notes
     -----

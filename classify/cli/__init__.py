@@ -15,7 +15,7 @@
 * ``closedchain draw FILE|NAME --out FIG`` (:mod:`classify.cli.draw_command`) draws
   the mechanism at a configuration, with its lost directions at a singularity;
 * ``closedchain loci FILE|NAME`` (:mod:`classify.cli.loci_command`) traces the
-  singularity loci of a 1- or 2-dof mechanism and draws its C-space map;
+  singularity loci of a 1-, 2- or 3-dof mechanism (3: in sections) and draws its C-space map;
 * ``closedchain conditioning FILE|NAME`` (:mod:`classify.cli.conditioning_command`)
   condition numbers, characteristic length, working modes and isoconditioning
   maps (Chablat, Wenger & Angeles 1998; Chablat, Caro, Wenger & Angeles 2002);
