@@ -57,9 +57,10 @@ def test_three_prr_grid_table1_mode2():
                          f"PHI={-math.pi}:{math.pi - step}:60")
     assert status == 0
     result = json.loads(out)
-    assert result["modes"][0]["global_index"] == pytest.approx(0.460, abs=0.005)
-    assert result["modes"][0]["matrices"]["B"]["global_index"] == pytest.approx(0.709, abs=0.005)
-    # the Ā column: Ā at the orientation of the best K̄ (test_table1_kappa_A_at_the_orientation_of_best_K)
+    assert result["modes"][0]["global_index"] == pytest.approx(0.460, abs=0.001)
+    assert result["modes"][0]["matrices"]["B"]["global_index"] == pytest.approx(0.709, abs=0.001)
+    # the Ā column: Ā at the orientation of the best K̄ (test_table1_kappa_A_at_the_orientation_of_best_K; mode 2's
+    # 0.507 is the one value of the table reproduced only to 0.005)
     assert result["modes"][0]["matrices"]["A"]["global_index_at_best_orientation"] == pytest.approx(0.511,
                                                                                                      abs=0.005)
 

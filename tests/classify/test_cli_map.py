@@ -297,7 +297,7 @@ def test_grid_errors_exit_2_with_one_line(grid, fragment):
     (["map", "five-bar"], "--grid"),
     (["map", "five-bar", "--grid", "A=0:0:1", "--seed", "2"], "--seed: does not apply"),
     (["map", "five-bar", "--grid", "A=0:0:1", "--out", "map.txt"], "--out: map.txt: expected a file ending in"),
-    (["map", "five-bar", "--grid", "A=0:0:1", "--param", "nothing=1"], "nothing"),
+    (["map", "five-bar", "--grid", "A=0:0:1", "--param", "nothing=1"], "has no parameter 'nothing'"),
 ])
 def test_other_bad_options_exit_2(argv, fragment):
     status, _, err = run(argv)

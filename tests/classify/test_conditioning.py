@@ -21,7 +21,8 @@ from classify.working_modes import (
     sign_pattern, five_bar_working_modes, three_prr_mode_pairs, three_prr_rotation_classes,
     three_prr_working_modes,
 )
-from mechanisms import flip_axis, home, move_base, rehome
+from manifold import project
+from mechanisms import configuration_space, flip_axis, home, move_base, rehome
 
 ROOT_TWO_R = math.sqrt(2.0) * 100.0          # L = √2 r sin γ at γ = π/2 (Chablat et al. 2002 §3.4)
 FIG4A = np.array([0.0, 0.0, math.pi / 3])    # the catalogue's isotropic pose (Chablat et al. 2002 Fig. 4a)
@@ -250,8 +251,9 @@ def test_isotropic_postures_at_root_two_r_include_fig4a():
 
 
 def test_three_prr_eight_working_modes_and_pairs():
-    """§3.5, Fig. 5: eight modes at a pose; pairs 1-5, 2-6, 3-7, 4-8; 2, 3, 4 (and 6, 7, 8) by turns of 120°.
-    Partners have B's diagonal of the same magnitudes (so the same κ(B), §3.6)."""
+    """§3.5, Fig. 5: eight modes at a pose; pairs 1-5, 2-6, 3-7, 4-8 of opposite signs; 2, 3, 4 (and 6, 7, 8) by
+    turns of 120°. B's diagonal has the same magnitudes in all eight (only its signs change, so κ(B) is the
+    same, §3.6)."""
     modes = three_prr_working_modes([20.0, -10.0, 1.1])
     assert [mode.label for mode in modes] == [str(number) for number in range(1, 9)]
     assert all(mode.reachable for mode in modes)
@@ -260,9 +262,11 @@ def test_three_prr_eight_working_modes_and_pairs():
         assert tuple(np.sign(mode.diagonal).astype(int)) == mode.signs
     assert three_prr_mode_pairs() == [(1, 5), (2, 6), (3, 7), (4, 8)]
     assert three_prr_rotation_classes() == [[1], [2, 3, 4], [6, 7, 8], [5]]
-    magnitudes = {mode.label: np.abs(mode.diagonal) for mode in modes}
+    by_label = {mode.label: mode for mode in modes}
     for first, second in three_prr_mode_pairs():
-        np.testing.assert_allclose(magnitudes[str(first)], magnitudes[str(second)], rtol=1e-12)
+        assert by_label[str(first)].signs == tuple(-sign for sign in by_label[str(second)].signs)
+    for mode in modes:
+        np.testing.assert_allclose(np.abs(mode.diagonal), np.abs(modes[0].diagonal), rtol=1e-12)
 
 
 def test_three_prr_paper_matrices_match_catalogue_mechanism():
@@ -285,8 +289,18 @@ def test_conditioning_invariant_under_joint_zero_axis_sign_and_base_frame():
     reference = mechanism_condition_numbers(mechanism, home(mechanism)[None], length=ROOT_TWO_R).values
     turn = 0.7
     base = np.array([[math.cos(turn), -math.sin(turn), 5.0], [math.sin(turn), math.cos(turn), -3.0], [0, 0, 1]])
-    for variant in (flip_axis(mechanism, "rail1"), flip_axis(mechanism, "B2"), move_base(mechanism, base),
-                    rehome(mechanism, home(mechanism))):
+    for variant in (flip_axis(mechanism, "rail1"), flip_axis(mechanism, "B2"), move_base(mechanism, base)):
         values = mechanism_condition_numbers(variant, home(variant)[None], length=ROOT_TWO_R).values
         for matrix in ("A-1B", "lambda"):
             assert values[matrix][0] == pytest.approx(reference[matrix][0], rel=1e-8)
+    # another home: the mechanism drawn at a nearby configuration p, its joint zeros there, classified at p
+    manifold = configuration_space(mechanism)
+    step = 0.05 * np.random.default_rng(8).standard_normal(manifold.ambient.dim)
+    point = project(manifold, manifold.ambient.retract(home(mechanism), step))
+    assert not np.allclose(point, home(mechanism), atol=1e-3)
+    at_point = mechanism_condition_numbers(mechanism, point[None], length=ROOT_TWO_R).values
+    rehomed = rehome(mechanism, point)
+    values = mechanism_condition_numbers(rehomed, home(rehomed)[None], length=ROOT_TWO_R).values
+    for matrix in ("A-1B", "lambda"):
+        assert values[matrix][0] == pytest.approx(at_point[matrix][0], rel=1e-8)
+        assert values[matrix][0] != pytest.approx(reference[matrix][0], rel=1e-4)  # p is another configuration

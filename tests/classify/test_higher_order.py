@@ -314,6 +314,7 @@ def test_fig10_eclipse_is_isolated_at_third_order():
     assert second.kernel.shape[1] == 1 and second.smallest <= second.tolerance and second.self_motion is None
     result = higher_order_test(model.manifold, point, basis, model.actuators, second.root)
     assert (result.verdict, result.order) == ("isolated", 3)
+    # 0.021937: a regression value of this code (not the paper's); the difference quotient below checks it apart
     assert result.obstruction == pytest.approx(0.021937, rel=1e-4)
     assert result.margin > 1e4 and result.noise < 1e-9
     step = 2e-3

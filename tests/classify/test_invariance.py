@@ -62,7 +62,7 @@ def assert_same(first, second, values=True):
     assert (first.manipulability is None) == (second.manipulability is None)
     if values and first.manipulability is not None:
         np.testing.assert_allclose(first.manipulability.eigenvalues, second.manipulability.eigenvalues,
-                                   rtol=1e-7, atol=1e-12)
+                                   rtol=1e-10, atol=1e-12)
 
 
 def joint_parts(mechanism, name):

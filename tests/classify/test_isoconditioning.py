@@ -18,8 +18,11 @@ ROOT_TWO_R = math.sqrt(2.0) * 100.0
 #: move the indices by less than 0.004 (docs/conditioning.rst)
 TABLE_GRID = -300.0 + 10.0 * (np.arange(60) + 0.5)
 TABLE_ORIENTATIONS = np.linspace(-math.pi, math.pi, 60, endpoint=False)
-#: how far a published index (3 decimals) may be from ours on that grid
-TABLE_TOLERANCE = 0.005
+#: how far a published index (3 decimals) may be from ours on that grid: the B and K̄ columns converge to the
+#: published values within their rounding on fine grids (docs/conditioning.rst), and are within it here
+TABLE_TOLERANCE = 0.001
+#: the one column reproduced less closely: Ā of mode 2 (0.507 here, 0.506 on 200 × 200 × 360, published 0.511)
+MODE_2_A_TOLERANCE = 0.005
 
 
 @pytest.fixture(scope="module")
@@ -47,15 +50,15 @@ def test_table1_kappa_K(table_maps, mode, published):
                                        "on 200 × 200 × 360), 0.02 and 0.013 above the published values")
 @pytest.mark.parametrize("mode,published", [(1, 0.354), (2, 0.511)])
 def test_table1_kappa_A(table_maps, mode, published):
-    assert table_maps[mode].global_index("A") == pytest.approx(published, abs=TABLE_TOLERANCE)
+    assert table_maps[mode].global_index("A") == pytest.approx(published, abs=MODE_2_A_TOLERANCE)
 
 
-@pytest.mark.parametrize("mode,published", [(1, 0.354), (2, 0.511)])
-def test_table1_kappa_A_at_the_orientation_of_best_K(table_maps, mode, published):
+@pytest.mark.parametrize("mode,published,tolerance", [(1, 0.354, TABLE_TOLERANCE), (2, 0.511, MODE_2_A_TOLERANCE)])
+def test_table1_kappa_A_at_the_orientation_of_best_K(table_maps, mode, published, tolerance):
     """Table 1, κ(Ā) column: the mean of 1/κ(Ā) at the orientation that optimises κ(K̄) at each position
     (§3.6 "the optimum conditioning according to the orientation"): 0.354 and 0.507 on this grid, 0.355 and
     0.506 on 200 × 200 × 360 — mode 1 to 0.001, mode 2 to 0.005 of the published values."""
-    assert table_maps[mode].index_at_best_orientation("A") == pytest.approx(published, abs=TABLE_TOLERANCE)
+    assert table_maps[mode].index_at_best_orientation("A") == pytest.approx(published, abs=tolerance)
 
 
 def test_table1_columns_need_different_orientations(table_maps):
@@ -74,15 +77,23 @@ def test_table1_B_identical_in_both_modes(table_maps):
 
 def test_partner_modes_have_equal_indices():
     """§3.5: by symmetry the opposite modes 1-5, 2-6, 3-7, 4-8 have the same conditioning, and 2, 3, 4 (6, 7, 8)
-    are images by turns of 120°. On a Cartesian grid (symmetric under x → −x, not under the turns) the global
-    indices of 1 and 5 agree to rounding and those of the six one-leg-reversed modes to 1e-3."""
+    are images by turns of 120°. The Cartesian grid (and its orientations) is symmetric under the mirror
+    x → −x, which maps leg 1 to itself, swaps legs 2 and 3 and reverses every sign: mode (s₁, s₂, s₃) to
+    (−s₁, −s₃, −s₂), i.e. 1 ↔ 5, 2 ↔ 6, 3 ↔ 8, 4 ↔ 7, whose global indices agree to rounding. The paper's
+    pairs 3-7 and 4-8 are that mirror composed with a turn of 120°, which the grid respects only
+    approximately: they agree to 1e-3, as do the six one-leg-reversed modes."""
     from classify.working_modes import three_prr_mode_pairs
 
     grid = -300.0 + 30.0 * (np.arange(20) + 0.5)
     orientations = np.linspace(-math.pi, math.pi, 24, endpoint=False)
     index = {mode: three_prr_map(grid, grid, WORKING_MODES[mode], ROOT_TWO_R, orientations).global_index("B-1A")
              for mode in range(1, 9)}
-    assert index[1] == pytest.approx(index[5], abs=1e-12)
+    by_signs = {tuple(WORKING_MODES[mode]): mode for mode in index}
+    for mode, (first, second, third) in WORKING_MODES.items():
+        mirrored = by_signs[(-first, -third, -second)]
+        assert index[mode] == pytest.approx(index[mirrored], abs=1e-12), (mode, mirrored)
+    assert {(mode, by_signs[(-signs[0], -signs[2], -signs[1])]) for mode, signs in WORKING_MODES.items()} >= \
+        {(1, 5), (2, 6), (3, 8), (4, 7)}
     for first, second in three_prr_mode_pairs():
         assert index[first] == pytest.approx(index[second], abs=1e-3)
     reversed_one = [index[mode] for mode in (2, 3, 4, 6, 7, 8)]
@@ -148,11 +159,18 @@ def test_contours_interpolate_the_map():
 
 
 def test_joint_map_and_hybrid_plane_map():
-    """The joint-space map (1998 Fig. 4) has κ(A) = ∞ on θ3 = θ4 (P on the singular curve), and the hybrid's
+    """The joint-space map (1998 Fig. 4) has κ(A) of eq. 9 at every reachable point, so κ(A) = ∞ on θ3 = θ4
+    (P on the singular curve, which the grid approaches within 0.05 rad) and nowhere else; the hybrid's
     in-plane map has κ(B) = ∞ on the axis AB (d₁ = 0, eq. 30)."""
     joint_map = five_bar_joint_map(np.linspace(0.0, math.pi, 25), np.linspace(0.0, math.pi, 25), 1)
     assert joint_map.axis_names == ("θ1", "θ2")
-    assert 0 < np.count_nonzero(joint_map.reachable) < joint_map.reachable.size
+    reachable = joint_map.reachable
+    assert 0 < np.count_nonzero(reachable) < reachable.size
+    # eq. 9: 1/κ(A) = |tan((θ3 − θ4)/2)|, the difference modulo π into [−π/2, π/2]: zero on θ3 = θ4 and only there
+    angles = joint_map.extra["angles"][reachable]
+    difference = np.angle(np.exp(2j * (angles[:, 2] - angles[:, 3]))) / 2
+    np.testing.assert_allclose(joint_map.inverse["A"][reachable], np.abs(np.tan(difference / 2)), atol=1e-12)
+    assert np.all(joint_map.inverse["A"][reachable] > 0) and np.abs(difference).min() < 0.05
     plane = hybrid_plane_map(np.array([0.0, 2.0, 4.0]), np.array([-3.0, 3.0, 9.0]), (1, 1))
     assert plane.reachable[0].any()
     np.testing.assert_array_equal(plane.inverse["B"][0][plane.reachable[0]], 0.0)

@@ -17,8 +17,9 @@ from classify.loci import TOLERANCE, locus_coordinates, sign_functions, trace_lo
 from mechanisms import configuration
 from tests.builders import catalogue_mechanism
 
-#: closed forms hold to this at every traced point (Chablat, Wenger & Angeles 1998 ask for 1e-6 in the issue)
-CLOSED_FORM = 1e-6
+#: closed forms hold to this at every traced point (the issue asked for 1e-6; the points are refined to
+#: loci.TOLERANCE = 1e-11 and the closed forms follow to about 2e-11: a 50× margin)
+CLOSED_FORM = 1e-9
 
 
 def _sine(first, second):
@@ -66,10 +67,9 @@ def test_five_bar_points_are_on_the_curves_and_confirmed(five_bar):
     sample = loci.pieces[0]
     for index in (0, len(sample.points) // 2):  # the single classification agrees
         assert sample.kind in classify(mechanism, sample.points[index]).kinds
-    assert loci.coverage["grid"] == {"A": pytest.approx([loci.coverage["grid"]["A"][0],
-                                                         loci.coverage["grid"]["A"][1], 8]),
-                                     "B": pytest.approx([loci.coverage["grid"]["B"][0],
-                                                         loci.coverage["grid"]["B"][1], 8])}
+    # by default a turn of each actuated angle around the start (displacements 0 at the home), 8 × 8 points
+    assert loci.coverage["grid"] == {"A": pytest.approx([-np.pi, np.pi, 8], abs=1e-12),
+                                     "B": pytest.approx([-np.pi, np.pi, 8], abs=1e-12)}
     assert loci.coverage["unconfirmed"] == {"actuator": 0, "end_effector": 0}
 
 

@@ -18,6 +18,7 @@ from scipy.spatial.transform import Rotation
 from scipy.stats import ortho_group
 
 import classify.classification as classification
+import classify.second_order as second_order
 from builders import catalogue_mechanism
 from classify import classify, model_of, survey_of
 from manifold import ProjectionError, project
@@ -111,7 +112,8 @@ def representation(mechanism, rng):
 
 @pytest.fixture
 def rotated_bases(monkeypatch):
-    """Make every tangent basis of the classification T·Q for a fresh random orthogonal Q."""
+    """Make every tangent basis of the classification and of the second-order test (its neighbours' bases) T·Q
+    for a fresh random orthogonal Q."""
     rng = np.random.default_rng(7)
     original = classification.tangent_basis
 
@@ -122,6 +124,7 @@ def rotated_bases(monkeypatch):
         return basis, decision
 
     monkeypatch.setattr(classification, "tangent_basis", rotated)
+    monkeypatch.setattr(second_order, "tangent_basis", rotated)
 
 
 @pytest.mark.parametrize("name, configuration, degeneracy", CASES)
