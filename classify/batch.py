@@ -16,9 +16,12 @@ is a batched singular-value decomposition:
 
 Each is the decision :func:`classify.classify` takes one configuration at a
 time, with the same cuts. Where the structure allows, the arithmetic is
-cheaper than one LAPACK call per matrix: singular values of matrices of 2
-rows in closed form and of 3 or 4 rows by one-sided Jacobi sweeps over the
-whole stack (:func:`classify.metrics.singular_values`), recomputed by LAPACK
+cheaper than one LAPACK call per matrix: singular values of 2 × 2 matrices
+in closed form and of matrices whose smaller side is 3 or 4 (the larger at
+most 12, stacks of 64 or more) by one-sided Jacobi sweeps over the whole
+stack (:func:`classify.metrics.singular_values`), of larger wide DΦs from the
+eigenvalues of their Gram matrix where certified (:func:`_gram_values`),
+recomputed by LAPACK
 wherever one lies near its cut (:func:`_certified`, so no decision depends on
 the method); the kernel bases of loops that each own as many coordinates as
 they have rows (Gough–Stewart, 3-RRR) from small solves per loop

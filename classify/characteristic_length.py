@@ -9,8 +9,8 @@ Jacobians J̄ = Ā⁻¹B, K̄ = B⁻¹Ā dimensionless. L is found three ways:
   the conditions (10a-d) is L = √2 r sin γ (§3.4), γ = ∠BᵢCᵢP;
 * by minimising κ(K̄) over L *and* the posture (scipy.optimize), reported with
   the optimal posture (:func:`optimal_characteristic_length`);
-* for a mechanism with no paper relation at one configuration, by minimising
-  κ(J̄) over L alone (:func:`best_length_at`).
+* for any other mechanism with a pose output, by minimising κ(J̄) over L
+  and the posture in a chart of M (:func:`mechanism_optimal_length`).
 
 Isotropic postures (κ = 1) are located by minimising κ over postures from
 several starts and keeping the minima with κ − 1 ≤ a tolerance
@@ -28,7 +28,7 @@ from .conditioning_matrices import three_prr_matrices
 
 __all__ = [
     "CharacteristicLength", "three_prr_length", "three_prr_leg_angles", "isotropy_length", "isotropy_residuals",
-    "three_prr_kappa", "optimal_characteristic_length", "isotropic_postures", "best_length_at",
+    "three_prr_kappa", "optimal_characteristic_length", "isotropic_postures",
     "mechanism_optimal_length",
 ]
 
@@ -215,32 +215,6 @@ def isotropic_postures(kappa, starts, tolerance=ISOTROPY_TOLERANCE, separation=1
         if not any(np.max(np.abs(posture - known) / (np.abs(known) + 1)) < separation for known, _ in found):
             found.append((posture, margin))
     return found
-
-
-def best_length_at(jacobian_of_length, length_bounds):
-    """The L minimising κ(J̄(L)) at one configuration (scipy ``minimize_scalar`` on log L).
-
-    Parameters
-    ----------
-    jacobian_of_length : callable
-        ``L -> J̄``, shape=[n, n].
-    length_bounds : tuple of float
-
-    Returns
-    -------
-    CharacteristicLength
-        ``method="optimised"``.
-    """
-    from scipy.optimize import minimize_scalar
-
-    low, high = np.log(length_bounds[0]), np.log(length_bounds[1])
-
-    def objective(logarithm):
-        value = float(singular_value_ratio(jacobian_of_length(float(np.exp(logarithm)))))
-        return value if np.isfinite(value) else 1e12
-    result = minimize_scalar(objective, bounds=(low, high), method="bounded", options={"xatol": 1e-10})
-    return CharacteristicLength(float(np.exp(result.x)), "optimised", None, float(result.fun),
-                                "κ(J̄) minimised over L at the configuration")
 
 
 # ------------------------------------------------------------------------------------------------ any mechanism

@@ -433,7 +433,7 @@ def derived_gosselin_angeles(model, point, basis, rtol=DEFAULT_RTOL):
     """A and B derived from a mechanism at p: ``[B A]`` spans the annihilator of V (module doc).
 
     With ``P = E^½ Dπ T`` (a×m) and ``Q = H^½ Df T`` (n×m), each divided by
-    the largest singular value of its unrestricted map (as in the survey),
+    the largest singular value of its unrestricted map (``E^½ Dπ``, ``H^½ Df``),
     ``V = range [P; Q]``. Its left null space, with orthonormal rows, is
     ``[B A]`` in those weighted coordinates; multiplying by ``E^½`` and
     ``H^½`` gives A and B in the mechanism's coordinates (same ranks). A

@@ -364,8 +364,8 @@ def follow_working_mode(mechanism, start, targets, shape, tolerance=BRANCH_TOLER
                         max_step=0.25, jump=STEP_JUMP):
     """The configurations reaching a grid of end-effector values in the working mode of `start`, by continuation.
 
-    The grid point whose value is nearest f(start) is solved from `start` (Gauss–Newton on ``Φ = 0, f = f_g``,
-    as :func:`inverse_kinematics_branches`); every other point from an already solved neighbour (one step
+    The grid points nearest f(start) are tried from `start`, nearest first (up to 8), until one is solved
+    (Gauss–Newton on ``Φ = 0, f = f_g``, as :func:`inverse_kinematics_branches`); every other point from an already solved neighbour (one step
     along one axis), all the points of a front at once. A step is refused when it does not converge, moves
     the joints more than `jump` (dimensionless: a jump to another branch), or changes the sign of
     det(Df T) with T a tangent basis carried along the path (oriented as its neighbour's): the step crossed

@@ -716,7 +716,8 @@ def trace_loci(mechanism, start, columns=None, ranges=None, counts=(24, 24), kin
         Among ``actuator``, ``end_effector`` and ``cspace`` (C-space points: the points of the traced curves
         that classify finds C-space singular, and, for 1 and 2 dof, those :func:`search_cspace` finds).
     rng : numpy.random.Generator, optional
-        For the sampling of M (1 dof); default seeded 0.
+        For the sampling of M (1 dof), the regular reference near a singular start and the probes of the
+        assembly branches; default seeded 0.
     survey : Survey, optional
         The model's survey (default computed once per model).
     sample_count : int

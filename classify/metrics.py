@@ -4,10 +4,12 @@ Park & Kim (1999), Section 2:
 
 * E on K, the actuator metric: ``ds² = Σ εᵢ dxᵢ²`` with εᵢ the weight of an
   actuated coordinate and 0 for a passive one (eq. 5), possibly semidefinite.
-* G = Tᵀ E T on M for a basis T of T_pM (eqs. 6-7). We compute it as
-  ``G = AᵀA`` with the *actuator Jacobian* ``A = E^{1/2} T`` restricted to
-  the actuated rows, so rank decisions are taken on A, whose singular values
-  are the square roots of G's eigenvalues.
+* G = Tᵀ E T on M for a basis T of T_pM (eqs. 6-7), ``G = AᵀA`` with the
+  *actuator Jacobian* ``A = E^{1/2} T`` restricted to the actuated rows,
+  whose singular values are the square roots of G's eigenvalues; A serves
+  the proper values. Rank decisions are taken on the unit actuator rows
+  (:func:`unit_rows` of ``E^{1/2} Dπ``) times T: the same kernel on T_pM,
+  independent of the weights and of the unit of length.
 * H on N: Euclidean on ℝ²/ℝ³, bi-invariant (identity on body angular
   velocity) on SO(2)/SO(3), and on SE(2)/SE(3) the left-invariant metric
   ``L²|ω|² + |v|²`` on body twists (ω, v) with a length scale L.

@@ -6,7 +6,8 @@ directions it loses at a singularity as arrows. For a mechanism of one or two
 degrees of freedom, :func:`loci_picture` traces its singularity loci from a
 configuration (:func:`classify.loci.trace_loci`, every traced point confirmed
 by the classification) and draws its C-space map with the loci overlaid
-(:func:`classify.figures.loci.draw_cspace_map`), in the actuated coordinates.
+(:func:`classify.figures.loci.draw_cspace_map`), in the default coordinates
+(the actuated ones where they are independent at the start).
 Three dof: the loci in sections of the first actuated coordinate, one panel
 per section (:func:`classify.figures.loci.draw_sections`), on a coarser grid
 (:data:`SECTIONS_GRID`). More dof: no loci.

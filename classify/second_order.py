@@ -43,7 +43,8 @@ __all__ = [
 ]
 
 #: forms count as vanishing at v when sqrt(Σ Q_e(v)²) ≤ SECOND_ORDER_RTOL · c · s, with c the largest
-#: ambient acceleration of unit-speed curves of M at p (at least 1) and s = σ₁(E^½ Dπ) (the actuator weights)
+#: ambient acceleration of unit-speed curves of M at p (at least 1) and s = σ₁ of the unit actuator rows times
+#: diag(s) (:func:`classify.metrics.unit_rows`; independent of the actuator weights)
 SECOND_ORDER_RTOL = 1e-6
 
 
@@ -59,7 +60,8 @@ class SelfMotion:
         Distance reached from p̄ (scaled chart units).
     largest_residual : float
         Largest ‖(Φ, π − π(p̄))‖ along the curve.
-    points : ndarray, shape=[steps, point_size]
+    points : ndarray, shape=[steps + 1, point_size]
+        The start first.
     """
 
     direction: np.ndarray

@@ -15,7 +15,7 @@ _SOURCES = {
     **dict.fromkeys(("FACTORS", "AmbientSpace", "rotation_exp", "rotation_log"), ".ambient"),
     **dict.fromkeys(("JacobianPattern",), ".blocks"),
     **dict.fromkeys(("CurveCertificate", "continue_curve"), ".continuation"),
-    **dict.fromkeys(("ContinuationError", "ManifoldError", "ProjectionError"), ".errors"),
+    **dict.fromkeys(("ManifoldError", "ProjectionError"), ".errors"),
     **dict.fromkeys(("ImplicitManifold", "constraint_curvature", "hessian_form", "jacobian_rank", "normal_basis",
                      "project", "project_many", "residual", "scaled_jacobian", "sparse_tangent_basis",
                      "tangent_basis"), ".implicit"),

@@ -1,6 +1,6 @@
 """Exceptions raised by :mod:`manifold`."""
 
-__all__ = ["ManifoldError", "ProjectionError", "ContinuationError"]
+__all__ = ["ManifoldError", "ProjectionError"]
 
 
 class ManifoldError(Exception):
@@ -9,7 +9,3 @@ class ManifoldError(Exception):
 
 class ProjectionError(ManifoldError):
     """Gauss-Newton projection onto an implicit manifold did not converge."""
-
-
-class ContinuationError(ManifoldError):
-    """A curve on an implicit manifold could not be continued."""

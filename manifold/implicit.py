@@ -66,7 +66,8 @@ BLOCK_THRESHOLD = 64
 SPARSE_BLOCK_COLUMNS = 1024
 #: relative cut of the minimum-norm Gauss-Newton step (as ``numpy.linalg.lstsq(rcond=...)``)
 STEP_RCOND = 1e-12
-#: floats of work memory :func:`constraint_curvature` uses per chunk of basis columns on the block path
+#: floats of work memory per chunk of array work: of :func:`constraint_curvature` per chunk of basis columns on
+#: the block path, and of the callers that read it at call time to size their own chunks
 CHUNK_ENTRIES = 2 ** 20
 #: a projection handled block by block stops when the residual fell by less than 1% over this many iterations
 STALL_WINDOW = 10

@@ -4,8 +4,9 @@ Every rank decision of the project goes through :func:`numerical_rank`. The
 cut is relative: a singular value σᵢ counts when ``σᵢ > rtol · s`` where s
 is a reference scale, by default σ₁ (the largest singular value). A matrix
 restricted to a subspace (G = Tᵀ E T, J = Df T) passes the scale of the
-unrestricted map (``σ₁(E^½)``, ``σ₁(Df)``), so that a map that is small on
-the whole subspace is seen as small. A matrix whose scale is below ``atol``
+unrestricted map (the classification passes σ₁ of the unit actuator rows and
+σ₁(H^½ Df), both times diag(s)), so that a map that is small on the whole
+subspace is seen as small. A matrix whose scale is below ``atol``
 has rank 0.
 
 At a fold of M (a turning point such as the slider-crank's sin θ = l/R) a

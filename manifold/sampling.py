@@ -48,7 +48,7 @@ def local_rank(manifold, point, rng, count=6, radius=1e-3, rtol=DEFAULT_RTOL, at
         A point of M.
     rng : numpy.random.Generator
     count : int
-        Number of neighbours that must be found.
+        Number of neighbours sought (at most 4·count attempts: fewer may be found).
     radius : float
         Size of the random steps, relative to each coordinate's scale.
 
@@ -80,7 +80,8 @@ def local_rank(manifold, point, rng, count=6, radius=1e-3, rtol=DEFAULT_RTOL, at
 def sample_manifold(manifold, rng, starts, random_count=24, walk_count=24, step=0.3):
     """Points of M spread over its assembly branches.
 
-    Two sources: Gauss-Newton from uniformly random points of K (reaching
+    Two sources: Gauss-Newton from random points of K (angles and rotations
+    uniform, lengths normal about the start; reaching
     other assembly branches), and a random walk on M from each start
     (exploring the start's branch).
 

@@ -13,8 +13,8 @@ tree); every remaining joint (a chord) closes a loop:
 
 Every link frame is parallel to the ground frame at home, with its origin at
 the point of the joint that carries it (the origin of its parent's frame for
-a ``P`` joint). ``R`` and ``P`` joints are ``revolute`` (unlimited:
-``continuous``) and ``prismatic``; ``S`` is a ``revolute`` re-typed
+a ``P`` joint). ``R`` and ``P`` joints are ``revolute`` and ``prismatic``
+with wide limits (±1000); ``S`` is a ``revolute`` re-typed
 ``SPHERICAL`` in the closures file; ``U`` and ``C`` are two joints,
 ``<joint>_1`` and ``<joint>_2``, through a link ``<joint>_cross`` (a ``U``
 about its first then its second axis; a ``C`` turning then sliding). A

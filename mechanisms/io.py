@@ -24,8 +24,9 @@ reject every unknown key):
     other output.
 
 ``weight`` (per joint, optional)
-    A positive number, default 1: the weight of the joint's coordinates in the
-    actuator metric E. It only has an effect on an actuated joint.
+    A number in [1e-12, 1e12], default 1: the weight of the joint's
+    coordinates in the actuator metric E. Only an actuated joint may have a
+    weight other than 1 (refused on a passive joint).
 ``description`` (top level, optional)
     Free text.
 ``configurations`` (top level, optional)

@@ -1,6 +1,7 @@
 """MuJoCo MJCF → :class:`~mechanisms.mechanism.Mechanism`, through the ``mujoco`` package (the ``mjcf`` extra).
 
-MuJoCo compiles the file (``mujoco.MjModel.from_xml_path``); its model gives
+MuJoCo compiles the file's text (``mujoco.MjModel.from_xml_string``, read with
+the size limit of URDF files); its model gives
 the tree: bodies (``body_parentid``, ``body_pos``, ``body_quat`` at the
 reference configuration), their joints in order (``hinge`` → ``R``,
 ``slide`` → ``P``, ``ball`` → ``S``, about ``jnt_pos`` / along ``jnt_axis``

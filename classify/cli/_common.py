@@ -115,8 +115,8 @@ def common_options(parser):
     parser.add_argument("--seed", type=seed_type, default=0,
                         help="seed of the random sampling, an integer ≥ 0 (default 0)")
     parser.add_argument("--length-scale", type=_length_scale, default=None,
-                        help="length scale of the SE(2)/SE(3) end-effector metric (within a factor 10⁶ of the "
-                             "mechanism's characteristic length)")
+                        help="length scale of the SE(2)/SE(3) and tool (ℝ³ × S²) end-effector metrics (within a "
+                             "factor 10⁶ of the mechanism's characteristic length)")
 
 
 def displacements(text):

@@ -18,7 +18,8 @@ ker J — Park & Kim 1999, Section 3) is a joint-rate vector v; it is drawn as
 the velocities of the joint places, ``d/dt link_pose(L, p ⊕ t v) · x`` at
 t = 0 (central differences, step 1e-6 in the dimensionless coordinates),
 scaled so that the longest arrow is a quarter of the mechanism's
-characteristic length (a fifth of the sphere's radius). Places that do not
+characteristic length (of the unit sphere's radius, 1, for a spherical
+mechanism). Places that do not
 move (speed below 1e-6 of the largest) get no arrow.
 
 Every artist carries a ``gid`` for the tests and for later pages (the
