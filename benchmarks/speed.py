@@ -302,7 +302,7 @@ def measure(settings, quick, rng):
     warm, warm_times = timed(lambda: classify(model, points[0]), repeats=7 if quick else 21, warmups=2)
     batched, batched_times = timed(lambda: classify_many(model, points), repeats=repeats)
     threaded, _ = timed(lambda: classify_many(model, points, workers=-1), repeats=repeats)
-    chunk = default_chunk(model, points[0])
+    chunk = default_chunk(model)
     threads = thread_count(-1, -(-batch_count // chunk))
     one_thread, every_core = classify_many(model, points).arrays(), classify_many(model, points, workers=-1).arrays()
     threads_agree = all(np.array_equal(every_core[key], column, equal_nan=column.dtype.kind == "f")

@@ -20,10 +20,9 @@ cheaper than one LAPACK call per matrix: singular values of 2 × 2 matrices
 in closed form and of matrices whose smaller side is 3 or 4 (the larger at
 most 12, stacks of 64 or more) by one-sided Jacobi sweeps over the whole
 stack (:func:`classify.metrics.singular_values`), of larger wide DΦs from the
-eigenvalues of their Gram matrix where certified (:func:`_gram_values`),
-recomputed by LAPACK
-wherever one lies near its cut (:func:`_certified`, so no decision depends on
-the method); the kernel bases of loops that each own as many coordinates as
+eigenvalues of their Gram matrix where certified (:func:`_gram_values`), all
+recomputed by LAPACK wherever one lies near its cut (:func:`_certified`, so
+no decision depends on the method); the kernel bases of loops that each own as many coordinates as
 they have rows (Gough–Stewart, 3-RRR) from small solves per loop
 (:class:`ArrowStructure`), where those blocks are well conditioned.
 
@@ -253,7 +252,7 @@ def classify_many(mechanism, points, survey=None, rtol=DEFAULT_RTOL, length_scal
         raise ValueError(f"Expected a positive chunk size, got {chunk!r}")
     shape = points.shape[:-1]
     flat = points.reshape(-1, size)
-    chunk = int(chunk) if chunk is not None else default_chunk(model, flat[0]) if len(flat) else 1
+    chunk = default_chunk(model) if chunk is None else int(chunk)
     starts = range(0, len(flat), chunk)
     threads = thread_count(workers, len(starts))
     survey = survey_of(model, rtol) if survey is None else survey
@@ -285,16 +284,16 @@ def classify_many(mechanism, points, survey=None, rtol=DEFAULT_RTOL, length_scal
     return result
 
 
-def default_chunk(model, point):
-    """Configurations per chunk of :func:`classify_many` by default: DΦ (c × k at `point`, shape=[point_size]) of
-    the whole chunk within :data:`manifold.implicit.CHUNK_ENTRIES` floats (8 MiB), at least one configuration.
+def default_chunk(model):
+    """Configurations per chunk of :func:`classify_many` by default: DΦ (c × k) of the whole chunk within
+    :data:`manifold.implicit.CHUNK_ENTRIES` floats (8 MiB), at least one configuration.
 
     So a chunk takes about the same memory (a few times that of its DΦ)
     whatever the mechanism: it holds 69,905 configurations of the five-bar
     (DΦ 3 × 5), 970 of the Gough–Stewart (30 × 36), 8 of a ladder of 100
     four-bar loops (300 × 400).
     """
-    rows = np.shape(model.manifold.constraint(np.asarray(point, dtype=float)))[-1]
+    rows = np.shape(model.manifold.constraint(model.starts[0]))[-1]
     return max(1, implicit.CHUNK_ENTRIES // max(1, rows * model.manifold.ambient.dim))
 
 

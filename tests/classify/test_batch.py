@@ -157,7 +157,7 @@ def test_a_default_chunk_holds_the_same_entries_of_dphi_whatever_the_mechanism(n
     mechanism = catalogue.entry(name).mechanism()
     model = model_of(mechanism)
     rows, size = model.manifold.constraint_jacobian(model.starts[0]).shape
-    chunk = batch_module.default_chunk(model, model.starts[0])
+    chunk = batch_module.default_chunk(model)
     assert rows * size * chunk <= implicit.CHUNK_ENTRIES < rows * size * (chunk + 1)
 
 
@@ -169,7 +169,7 @@ def test_the_memory_of_a_stack_of_a_large_mechanism_is_bounded_by_its_chunks():
     model = model_of(mechanism)
     survey_of(model)
     points = np.repeat(model.starts[:1], 24, axis=0)
-    assert batch_module.default_chunk(model, points[0]) == 8
+    assert batch_module.default_chunk(model) == 8
     peaks = {}
     for chunk in (None, 24):
         tracemalloc.start()
