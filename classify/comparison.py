@@ -39,8 +39,8 @@ __all__ = ["REASONS", "expected_kinds", "correspondence", "ComparisonRow", "Comp
 REASONS = {
     "redundant_actuation": "more actuated coordinates than degrees of freedom: G–A's B is not square, so "
                            "kinds I–III are not defined; Park–Kim's semidefinite E handles it",
-    "unequal_dimensions": "inputs and outputs differ in number: G–A needs n of each (choose them, e.g. "
-                          "`closedchain compare --inputs … --outputs …`)",
+    "unequal_dimensions": "inputs and outputs differ in number (or there are none): G–A needs n ≥ 1 of each "
+                          "(choose them, e.g. `closedchain compare --inputs … --outputs …`)",
     "idle_freedom": "a freedom the inputs do not control moves the outputs everywhere on M (an architecture "
                     "singularity, e.g. G–A eq. 87's similar hexagons): Park–Kim flags an architecture singularity, "
                     "G–A sees det A = 0 everywhere, or no n×n A and B at all",

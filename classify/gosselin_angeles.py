@@ -451,7 +451,7 @@ def derived_gosselin_angeles(model, point, basis, rtol=DEFAULT_RTOL):
     -------
     GosselinAngeles
         Undefined (``"not_square"``) when the numbers of inputs and outputs
-        differ, (``"subspace_dimension"``) when dim V ≠ n.
+        differ or are both 0, (``"subspace_dimension"``) when dim V ≠ n.
     """
     actuators = model.actuators
     count_inputs, count_outputs = actuators.shape[0], model.end_effector_dimension
@@ -460,6 +460,8 @@ def derived_gosselin_angeles(model, point, basis, rtol=DEFAULT_RTOL):
                           f"{count_inputs} inputs and {count_outputs} outputs: [B A] would be "
                           f"{count_outputs + count_inputs - basis.shape[1]}×{count_inputs + count_outputs}, "
                           f"not n×2n")
+    if count_inputs == 0:
+        return _undefined(0, "not_square", "no inputs and no outputs: G–A needs n ≥ 1 of each")
     n = count_inputs
     root = metric_root(model.end_effector_metric)
     full_outputs = root @ model.end_effector_jacobian(point)

@@ -173,8 +173,8 @@ def dumps(value):
     return json.dumps(finite(value), indent=2, ensure_ascii=False, allow_nan=False)
 
 
-def check_length_scale(value, mechanism=None):
-    """Refuse a non-positive or non-finite ``--length-scale``, or one out of range for `mechanism`.
+def check_length_scale(value, mechanism=None, option="--length-scale"):
+    """Refuse a non-positive or non-finite ``--length-scale`` (or `option`), or one out of range for `mechanism`.
 
     With a mechanism, the scale must lie within a factor :data:`LENGTH_SCALE_RATIO`
     of its characteristic length (the default scale): beyond, the rotation
@@ -184,13 +184,13 @@ def check_length_scale(value, mechanism=None):
     if value is None:
         return
     if not math.isfinite(value) or value <= 0:
-        raise InputError(f"--length-scale: expected a positive finite number, got {value}")
+        raise InputError(f"{option}: expected a positive finite number, got {value}")
     if mechanism is None:
         return
     length = mechanism.characteristic_length
     low, high = length / LENGTH_SCALE_RATIO, length * LENGTH_SCALE_RATIO
     if not low <= value <= high:
-        raise InputError(f"--length-scale: expected a value from {low:.3g} to {high:.3g} (within a factor "
+        raise InputError(f"{option}: expected a value from {low:.3g} to {high:.3g} (within a factor "
                          f"{LENGTH_SCALE_RATIO:g} of the characteristic length {length:.3g} of the mechanism), "
                          f"got {value:g}")
 

@@ -49,7 +49,7 @@ from __future__ import annotations
 
 import math
 
-from ._common import InputError, displacements, dumps, entry_options, is_entry, source, write_output
+from ._common import InputError, check_length_scale, displacements, dumps, entry_options, is_entry, source, write_output
 
 __all__ = ["add_parser", "run"]
 
@@ -121,8 +121,26 @@ def _grid(texts, entry):
     return axes
 
 
+#: catalogue parameters outside the papers' relations: with any of them given, the relation is derived instead
+#: (the papers' matrices are for the entries' own actuation and end-effector, and the five-bar's equal legs)
+NOT_PAPER_PARAMETERS = ("actuated", "end_effector", "proximal_right", "distal_right")
+
+
 def _source_entry(arguments):
-    return arguments.file if is_entry(arguments.file) else None
+    """The catalogue entry whose paper relation applies, or None (a file, or a --param outside the relation)."""
+    if not is_entry(arguments.file):
+        return None
+    given = {text.partition("=")[0].strip() for text in arguments.param}
+    return None if given & set(NOT_PAPER_PARAMETERS) else arguments.file
+
+
+def _not_needed(length, why):
+    """The characteristic length of outputs without mixed units; --length refused there (it would be ignored)."""
+    from ..characteristic_length import CharacteristicLength
+
+    if length is not None:
+        raise InputError(f"--length: {why}: no characteristic length applies")
+    return CharacteristicLength(None, "not_needed", reference="no orientation output")
 
 
 def _three_prr_design(mechanism):
@@ -149,6 +167,9 @@ def run(arguments, out):
 
     length = _length_option(arguments.length)
     mechanism, named = source(arguments)
+    check_length_scale(length, mechanism, "--length")
+    if arguments.grid is None and arguments.mode != "all":
+        raise InputError("--mode: applies to the maps of --grid")
     at = displacements(arguments.at)
     point = configuration(mechanism, {**named, **at}, where="--at").point
     entry = _source_entry(arguments)
@@ -174,7 +195,6 @@ def run(arguments, out):
 def _single(mechanism, point, entry, length):
     import numpy as np
 
-    from ..characteristic_length import CharacteristicLength
     from ..conditioning import condition_numbers, mechanism_condition_numbers, mechanism_jacobians
     from ..conditioning_matrices import five_bar_matrices, three_prr_matrices, three_prr_pose_of
 
@@ -201,7 +221,7 @@ def _single(mechanism, point, entry, length):
                                             float(np.linalg.norm(p - d)))
         numbers = condition_numbers(direct, inverse, scales=(distal, proximal * distal),
                                     normalisation="Chablat, Wenger & Angeles 1998 eqs. 3b-c")
-        found = CharacteristicLength(None, "not_needed", reference="no orientation output")
+        found = _not_needed(length, "the five-bar's outputs are positions")
         relation = "paper"
         extra = {"angles": angles.tolist()}
     else:
@@ -275,8 +295,6 @@ def _maps(arguments, mechanism, point, entry, length):
         grid = {"x": list(axes["X"]), "y": list(axes["Y"]),
                 "phi": [float(orientations[0]), float(orientations[-1]), int(len(orientations))]}
     else:
-        from ..characteristic_length import CharacteristicLength
-
         if len(xs) * len(ys) > GRID_LIMIT:
             raise InputError(f"--grid: at most {GRID_LIMIT} points (X × Y)")
         item = mechanism.joint("B").point
@@ -286,7 +304,7 @@ def _maps(arguments, mechanism, point, entry, length):
         modes = _modes(arguments.mode, FIVE_BAR_MODES)
         maps = [five_bar_cartesian_map(xs, ys, tuple(1 if sign == "+" else -1 for sign in mode), mode=mode,
                                        base=float(item[0]), proximal=proximal, distal=distal) for mode in modes]
-        found = CharacteristicLength(None, "not_needed", reference="no orientation output")
+        found = _not_needed(length, "the five-bar's outputs are positions")
         isotropic = []
         grid = {"x": list(axes["X"]), "y": list(axes["Y"])}
     return ({"relation": "paper", "matrix": arguments.matrix, "characteristic_length": found.to_dict(),
@@ -409,7 +427,7 @@ def _general_length(mechanism, point, length):
     from ..characteristic_length import CharacteristicLength, mechanism_optimal_length
 
     if not _has_orientation(mechanism):
-        return CharacteristicLength(None, "not_needed", reference="no orientation output"), []
+        return _not_needed(length, "the end-effector's outputs are not positions and orientations together"), []
     if length is not None:
         return CharacteristicLength(length, "given"), []
     found, isotropic = mechanism_optimal_length(mechanism, point)

@@ -180,6 +180,13 @@ def test_general_cartesian_grid_from_a_file(tmp_path):
     (("hybrid", "--grid", "X=0:1:2", "Y=0:1:2", "Z=0:1:2", "--length", "3"), "--length"),
     (("slider-crank",), "actuated"),
     (("five-bar", "--out", "x.txt"), "--out"),
+    # a length far beyond the mechanism's size (the metric's L² overflowed: an internal error), or where no
+    # characteristic length applies (it was ignored), and a working mode without maps (it was ignored)
+    (("gough-stewart", "--length", "1e300"), "--length: expected a value from"),
+    (("five-bar", "--length", "3"), "--length: the five-bar's outputs are positions"),
+    (("five-bar", "--grid", "X=0:1:2", "Y=0:1:2", "--length", "3"), "--length: the five-bar's outputs"),
+    (("spherical-3rrr", "--length", "2"), "--length: the end-effector's outputs are not positions"),
+    (("five-bar", "--mode", "nan"), "--mode: applies to the maps of --grid"),
 ])
 def test_bad_input_exits_2_with_one_line(arguments, message, capsys):
     status, out, _ = run("conditioning", *arguments)
@@ -200,3 +207,14 @@ def test_a_cartesian_grid_that_does_not_fit_a_files_output_exits_2(tmp_path, cap
     err = capsys.readouterr().err
     assert status == 2 and out == ""
     assert "--grid:" in err and "output is a position (x, y)" in err and err.count("\n") == 1
+
+
+def test_a_param_outside_the_papers_relation_derives_it():
+    """The papers' A and B are for the five-bar's own actuation (A, B) and equal legs: with another actuation
+    the relation is derived from the mechanism (it used to print the paper's figures, the --param ignored)."""
+    status, paper, _ = run("conditioning", "five-bar")
+    assert status == 0 and json.loads(paper)["relation"] == "paper"
+    status, out, _ = run("conditioning", "five-bar", "--param", "actuated=A,C")
+    result = json.loads(out)
+    assert status == 0 and result["relation"] == "derived"
+    assert result["kappa"]["A"] != pytest.approx(json.loads(paper)["kappa"]["A"], rel=1e-3)

@@ -141,3 +141,19 @@ def test_joint_outputs_name_joints_of_their_entries():
 def test_report_jobs_must_be_positive(capsys):
     status, out, err = run(["report", "slider-crank", "--jobs", "0"], capsys)
     assert status == 2 and out == "" and "--jobs" in err and err.count("\n") == 1
+
+
+def test_a_mechanism_without_inputs_or_outputs_is_reported_with_gosselin_angeles_undefined(tmp_path, capsys):
+    """No actuated joint and no end-effector: Park–Kim classifies it (classify accepts it), G–A is undefined
+    (n = 0) with a listed reason — the report used to stop with an internal error in the metric of N."""
+    status, _, _ = run(["catalog", "five-bar", "--write", str(tmp_path / "five.yaml")], capsys)
+    assert status == 0
+    text = (tmp_path / "five.yaml").read_text(encoding="utf-8")
+    bare = "\n".join(line for line in text.splitlines() if "actuated:" not in line)
+    bare = bare[:bare.index("end_effector:")] + "end_effector: null\n"
+    (tmp_path / "bare.yaml").write_text(bare, encoding="utf-8")
+    status, out, err = run(["report", str(tmp_path / "bare.yaml"), "--format", "json", "--jobs", "1"], capsys)
+    assert status == 0, err
+    (row,) = json.loads(out)
+    assert row["comparison"]["reason"] == "unequal_dimensions" and row["comparison"]["agree"] is False
+    assert "no inputs and no outputs" in row["comparison"]["note"]
