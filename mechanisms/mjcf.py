@@ -144,11 +144,32 @@ def read_mjcf(path):
         import mujoco
     except ImportError:
         raise MechanismError(f"{path}: reading MJCF needs the mujoco package: pip install closedchain[mjcf]") from None
+    previous = mujoco.get_mju_user_warning()
+    mujoco.set_mju_user_warning(lambda message: None)  # MuJoCo prints its warnings (a NaN…) on stdout: ours follow
     try:
         model = mujoco.MjModel.from_xml_string(text)
     except Exception as error:  # MuJoCo's compiler errors (ValueError...), one line
         reason = " ".join(str(error).split()) or type(error).__name__
         raise MechanismError(f"{path}: MJCF: cannot compile: {reason}"[:400]) from None
+    finally:
+        mujoco.set_mju_user_warning(previous)
+    _check_finite(model, path)
     tree, closures = tree_from_mjcf(model, str(path))
     return import_tree(tree, closures, mechanism_name(path), str(path),
                        description=f"imported from the MJCF {path.name}")
+
+
+#: the compiled model's arrays the import reads, with what they hold (for the message)
+_GEOMETRY = {"body_pos": "a body's pos", "body_quat": "a body's quat (or euler, axisangle…)",
+             "jnt_pos": "a joint's pos", "jnt_axis": "a joint's axis", "site_pos": "a site's pos",
+             "site_quat": "a site's orientation", "eq_data": "an equality's data (a connect's anchor)"}
+
+
+def _check_finite(model, path):
+    """MechanismError naming the first non-finite geometry: MuJoCo accepts NaN and inf (with a warning)."""
+    import numpy as np
+
+    for field, meaning in _GEOMETRY.items():
+        values = np.asarray(getattr(model, field), dtype=float)
+        if values.size and not np.all(np.isfinite(values)):
+            raise MechanismError(f"{path}: MJCF: {meaning} is not finite (NaN or infinity)")

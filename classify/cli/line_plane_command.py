@@ -60,12 +60,17 @@ def add_parser(commands):
 def _number(text, option):
     import math
 
+    from mechanisms.joints import COORDINATE_LIMIT
+
     try:
         value = float(text)
     except ValueError:
         raise InputError(f"{option}: expected a number, got {text[:40]!r}") from None
     if not math.isfinite(value):
         raise InputError(f"{option}: expected finite numbers, got {text[:40]}")
+    if abs(value) > COORDINATE_LIMIT:
+        raise InputError(f"{option}: expected numbers at most {COORDINATE_LIMIT:g} in absolute value (as in a "
+                         f"mechanism file), got {text[:40]}")
     return value
 
 

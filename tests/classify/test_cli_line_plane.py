@@ -91,6 +91,12 @@ def test_catalogue_entry_and_mechanism_file(capsys, tmp_path):
     (["--base", QUARTIC_BASE, "--platform", QUARTIC_PLATFORM, "--move-platform", "1:2"], "--move-platform"),
     (["--base", QUARTIC_BASE, "--platform", QUARTIC_PLATFORM, "--move-base", "7:1"], "--move-base"),
     (["slider-crank"], "slider-crank"),
+    # beyond ±1e12 (as in a mechanism file): a leg of 1e300 ended in an internal error, a base of 1e155 in
+    # overflow warnings and a message blaming coinciding legs
+    (["5-spu", "--legs", "1e300,2,2,2,2"], "--legs: expected numbers at most"),
+    (["5-spu", "--move-base", "1:1e300"], "--move-base: expected numbers at most"),
+    (["--base", "1e155,0.2 1.3,-0.4 -0.7,1.1 0.9,1.6 -1.2,-0.8", "--platform", QUARTIC_PLATFORM],
+     "--base: expected numbers at most"),
 ])
 def test_bad_input_exits_2_with_one_line_naming_the_option(arguments, option, capsys):
     status, out, err = run(["line-plane", *arguments], capsys)

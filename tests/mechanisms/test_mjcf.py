@@ -1,6 +1,8 @@
 """MJCF import (:mod:`mechanisms.mjcf`): a five-bar written as MuJoCo bodies with one ``connect`` equality
 classifies as the catalogue five-bar (Park & Kim 1999, Fig. 6a: the distal links aligned)."""
 
+import re
+
 import numpy as np
 import pytest
 
@@ -68,3 +70,23 @@ def test_mjcf_compiler_errors_are_one_line(tmp_path):
     with pytest.raises(MechanismError, match="MJCF: cannot compile") as caught:
         read_mjcf(path)
     assert "\n" not in str(caught.value)
+
+
+@pytest.mark.parametrize("pattern, replacement, meaning", [
+    (r'axis="0 0 1"', 'axis="nan 0 1"', "joint's axis"),
+    (r'(<joint name="B" type="hinge" axis="0 0 1")', r'\1 pos="inf 0 0"', "joint's pos"),
+    (r'anchor="[^"]*"', 'anchor="inf 0 0"', "equality's data"),
+])
+def test_non_finite_geometry_is_refused_in_one_line(tmp_path, capfd, pattern, replacement, meaning):
+    """MuJoCo compiles NaN and infinity with a warning on stdout; the import used to end in a LinAlgError."""
+    from mechanisms.mjcf import read_mjcf
+
+    text = five_bar_xml(entry("five-bar").mechanism())
+    changed = re.sub(pattern, replacement, text, count=1)
+    assert changed != text
+    path = tmp_path / "bad.xml"
+    path.write_text(changed, encoding="utf-8")
+    with pytest.raises(MechanismError, match=f"bad.xml: MJCF: an? {meaning}.* is not finite"):
+        read_mjcf(path)
+    captured = capfd.readouterr()  # MuJoCo writes from C: the file descriptors, not sys.stdout
+    assert captured.out == "" and captured.err == ""
