@@ -18,6 +18,7 @@ from __future__ import annotations
 import numpy as np
 
 from .html_report import Picture, figure_png
+from .text import drawn
 
 __all__ = ["configuration_picture", "loci_picture", "LOCI_GRID", "SECTIONS_GRID"]
 
@@ -47,7 +48,7 @@ def configuration_picture(mechanism, point, report, caption):
     from .figures.drawing import draw_mechanism
 
     kinds = report.label
-    figure = draw_mechanism(mechanism, point, report=report, title=f"{mechanism.name}: {kinds}")
+    figure = draw_mechanism(mechanism, point, report=report, title=f"{drawn(mechanism.name)}: {kinds}")
     return Picture(caption, figure_png(figure))
 
 
@@ -82,7 +83,7 @@ def loci_picture(mechanism, start, survey, caption, seed=0):
                       counts=SECTIONS_GRID if dof == 3 else LOCI_GRID, rng=np.random.default_rng(seed), survey=survey)
     if dof > 1 and not loci.coverage["reached"]:  # the grid reached no configuration from the start: nothing to draw
         return None
-    title = f"{mechanism.name}: singularity loci"
+    title = f"{drawn(mechanism.name)}: singularity loci"
     figure = (draw_sections(mechanism, loci, columns[:2], title=title) if dof == 3
               else draw_cspace_map(mechanism, loci, columns, title=title))
     found = ", ".join(f"{kind.replace('_', '-')}: {count} piece(s)" for kind, count in loci.coverage["pieces"].items())

@@ -6,7 +6,7 @@ escape what it prints without importing the numerical code.
 
 from __future__ import annotations
 
-__all__ = ["printable"]
+__all__ = ["printable", "drawn"]
 
 
 def printable(name):
@@ -43,3 +43,9 @@ def printable(name):
 def _escaped(character):
     """The Python escape of one character (``\\n``, ``\\x00``, ``\\u202e``)."""
     return character.encode("unicode_escape").decode("ascii")
+
+
+def drawn(name):
+    """`name` as matplotlib text that shows it as written: :func:`printable`, and every dollar sign escaped
+    (matplotlib reads the text between two of them as mathtext; ``$$`` in a name made a figure fail)."""
+    return printable(name).replace("$", r"\$")

@@ -13,7 +13,7 @@ ones on 3-D axes. Prints one line: the file written and the kinds found.
 
 from __future__ import annotations
 
-from ..text import printable
+from ..text import drawn, printable
 from ._common import InputError, closures_option, common_options, displacements, entry_options, source
 
 __all__ = ["add_parser", "run", "FIGURE_SUFFIXES", "KIND_NAMES"]
@@ -78,6 +78,27 @@ def write_figure(figure, path, option="--out"):
         raise InputError(f"{option}: {printable(path)}: cannot write the figure: {error.strerror or error}") from None
 
 
+def check_title(text):
+    """Refuse a ``--title`` matplotlib cannot draw: control characters other than newline and tab (a glyph it
+    lacks), or mathtext (between dollar signs) it cannot parse, checked on an empty figure before any work."""
+    import unicodedata
+
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    if any(unicodedata.category(character) == "Cc" and character not in "\n\t" for character in text):
+        raise InputError(f"--title: control characters are not drawn; got {printable(text[:40])}")
+    figure = Figure()
+    FigureCanvasAgg(figure)
+    figure.suptitle(text)
+    try:
+        figure.canvas.draw()
+    except ValueError as error:
+        reason = " ".join(str(error).split())[:120]
+        raise InputError(f"--title: matplotlib cannot typeset the mathtext between its dollar signs ({reason}); "
+                         "write \\$ for a dollar sign") from None
+
+
 def run(arguments, out):
     import numpy as np
 
@@ -88,13 +109,15 @@ def run(arguments, out):
 
     path = figure_path(arguments.out)
     kinds = parse_kinds(arguments.kinds)
+    if arguments.title is not None:
+        check_title(arguments.title)
     mechanism, named = source(arguments)
     at = displacements(arguments.at)
     point = configuration(mechanism, {**named, **at}, project_onto=arguments.project, where="--at").point
     report = classify(mechanism, point, rng=np.random.default_rng(arguments.seed),
                       length_scale=arguments.length_scale)
     found = ", ".join(kind.replace("_", "-") for kind in report.kinds) or "regular"
-    title = arguments.title if arguments.title is not None else f"{mechanism.name}: {found}"
+    title = arguments.title if arguments.title is not None else f"{drawn(mechanism.name)}: {found}"
     figure = draw_mechanism(mechanism, point, report=report, kinds=kinds, title=title)
     write_figure(figure, path)
     out.write(f"drawing of {printable(mechanism.name)} ({found}) written to {printable(path)}\n")

@@ -51,7 +51,7 @@ the text or JSON is printed as well.
 
 from __future__ import annotations
 
-from ..text import printable
+from ..text import drawn, printable
 from ._common import InputError, common_options, entry_options, source
 
 __all__ = ["add_parser", "run", "DEFAULT_COUNT"]
@@ -262,7 +262,7 @@ def run(arguments, out):
     if arguments.out is not None:
         from ..figures.loci import draw_cspace_map, draw_sections
 
-        title = f"{mechanism.name}: singularity loci"
+        title = f"{drawn(mechanism.name)}: singularity loci"
         flat = len(names) <= 2  # a 3-dof mechanism's sections as panels, else stacked in 3-D
         figure = (draw_sections(mechanism, loci, coordinates, title=title) if dof == 3 and flat
                   else draw_cspace_map(mechanism, loci, coordinates, title=title))

@@ -11,6 +11,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..text import drawn
+
 __all__ = ["MATRIX_LABELS", "SINGULAR_LEVEL", "isoconditioning_figure", "isoconditioning_surface_figure"]
 
 #: the papers' names of the matrices
@@ -72,8 +74,8 @@ def isoconditioning_figure(maps, matrix, levels=(0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0
             dots = axes.scatter(grid_first[unreachable], grid_second[unreachable], marker=".", color="0.6", s=6,
                                 label="not reached on the branch")
             dots.set_gid("unreachable_points")
-        axes.set_xlabel(f"{conditioning_map.axis_names[0]}{suffix}")
-        axes.set_ylabel(f"{conditioning_map.axis_names[1]}{suffix}")
+        axes.set_xlabel(f"{drawn(conditioning_map.axis_names[0])}{suffix}")
+        axes.set_ylabel(f"{drawn(conditioning_map.axis_names[1])}{suffix}")
         if equal_aspect:
             axes.set_aspect("equal")
         axes.set_title(f"mode {conditioning_map.mode}: 1/κ({MATRIX_LABELS[matrix]}), "

@@ -90,7 +90,7 @@ def draw_sections(mechanism, loci, coordinates, title=None, columns=3):
     from matplotlib.figure import Figure
 
     from ..displacements import displacements_of
-    from ..text import printable
+    from ..text import drawn
 
     if "sections" not in loci.coverage:
         raise ValueError("draw_sections: the loci were not traced in sections (a 3-dof mechanism)")
@@ -110,7 +110,7 @@ def draw_sections(mechanism, loci, coordinates, title=None, columns=3):
         part = replace(loci, pieces=tuple(piece for piece in loci.pieces if piece.section == value), branches=(),
                        samples=loci.samples[chosen], sample_signs=loci.sample_signs[chosen],
                        sample_branches=None if loci.sample_branches is None else loci.sample_branches[chosen])
-        draw_cspace_map(mechanism, part, coordinates, axes=axes, title=f"{printable(name)} = {value:.4g}")
+        draw_cspace_map(mechanism, part, coordinates, axes=axes, title=f"{drawn(name)} = {value:.4g}")
         if axes.get_legend() is not None and index:
             axes.get_legend().remove()
     if title is not None:
@@ -211,9 +211,9 @@ def draw_cspace_map(mechanism, loci, coordinates, axes=None, title=None):
 
 
 def _finish(axes, names, title):
-    from ..text import printable
+    from ..text import drawn
 
-    names = tuple(printable(name) for name in names)
+    names = tuple(drawn(name) for name in names)
     if len(names) >= 1:
         axes.set_xlabel(names[0])
     if len(names) >= 2:
