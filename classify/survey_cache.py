@@ -96,10 +96,32 @@ def read_survey(path, model, rtol=DEFAULT_RTOL):
     if data.get("version") != _VERSION or data.get("fingerprint") != fingerprint(model, rtol):
         raise SurveyCacheError(f"survey cache {os.fspath(path)!r} was made for another mechanism, actuation, "
                                f"end-effector, rank cut or closedchain version; delete it or name another file")
+    where = f"survey cache {os.fspath(path)!r}: field 'survey'"
     try:
-        return Survey.from_dict(data.get("survey"), where=f"survey cache {os.fspath(path)!r}: field 'survey'")
+        survey = Survey.from_dict(data.get("survey"), where=where)
     except ValueError as error:
         raise SurveyCacheError(str(error)) from None
+    _check_fits(survey, model, where)
+    return survey
+
+
+def _check_fits(survey, model, where):
+    """SurveyCacheError unless every rank can be the model's: present exactly when it has an end-effector (the
+    end-effector and stacked ranks), and at most the size of its map (a rank of DΦ above min(c, k)...)."""
+    size = model.manifold.ambient.dim
+    rows = int(np.shape(model.manifold.constraint(np.asarray(model.starts[0], dtype=float)))[-1])
+    actuators, outputs = len(model.actuators), model.end_effector_dimension
+    largest = {"constraint_rank": min(rows, size), "actuator_rank": min(actuators, size),
+               "end_effector_rank": min(outputs, size), "joint_rank": min(actuators + outputs, size)}
+    for name, bound in largest.items():
+        value = getattr(survey, name)
+        if name in ("end_effector_rank", "joint_rank") and (value is None) != (outputs == 0):
+            expected = "null (the mechanism has no end-effector)" if outputs == 0 else \
+                "a non-negative integer (the mechanism has an end-effector)"
+            raise SurveyCacheError(f"{where}: field {name!r}: expected {expected}, got {value!r}")
+        if value is not None and value > bound:
+            raise SurveyCacheError(f"{where}: field {name!r}: expected at most {bound} (the size of the map), "
+                                   f"got {value}")
 
 
 def write_survey(path, model, survey, rtol=DEFAULT_RTOL):

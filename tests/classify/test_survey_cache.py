@@ -56,3 +56,35 @@ def test_a_tampered_survey_field_is_named(tmp_path):
     path.write_text(json.dumps(data))
     with pytest.raises(SurveyCacheError, match="'actuator_rank'"):
         read_survey(path, model)
+
+
+@pytest.mark.parametrize("field, value, message", [
+    ("joint_rank", None, "'joint_rank': expected a non-negative integer (the mechanism has an end-effector)"),
+    ("end_effector_rank", None, "'end_effector_rank': expected a non-negative integer"),
+    ("constraint_rank", 99, "'constraint_rank': expected at most 3"),
+    ("actuator_rank", 3, "'actuator_rank': expected at most 2"),
+    ("joint_rank", 5, "'joint_rank': expected at most 4"),
+])
+def test_a_survey_that_cannot_be_the_mechanisms_is_refused(tmp_path, field, value, message):
+    """A rank missing where the mechanism has an end-effector (it reached the batch as None: an internal
+    error), or beyond the size of its map (DΦ of the five-bar is 3 × 5, two actuators, two outputs)."""
+    path = tmp_path / "survey.json"
+    model = model_of(catalogue.entry("five-bar").mechanism())
+    write_survey(path, model, survey_of(model))
+    data = json.loads(path.read_text())
+    data["survey"][field] = value
+    path.write_text(json.dumps(data))
+    with pytest.raises(SurveyCacheError, match=message.replace("(", r"\(").replace(")", r"\)")):
+        read_survey(path, model)
+
+
+def test_a_survey_of_a_mechanism_without_end_effector_has_no_end_effector_ranks(tmp_path):
+    path = tmp_path / "survey.json"
+    model = model_of(catalogue.entry("five-bar").mechanism(end_effector="none"))
+    write_survey(path, model, survey_of(model))
+    assert read_survey(path, model).to_dict() == survey_of(model).to_dict()
+    data = json.loads(path.read_text())
+    data["survey"]["joint_rank"] = 2
+    path.write_text(json.dumps(data))
+    with pytest.raises(SurveyCacheError, match="'joint_rank': expected null"):
+        read_survey(path, model)
