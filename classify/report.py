@@ -80,14 +80,26 @@ def source_lines(source, indent="  "):
     configuration = source.get("configuration")
     where = f", configuration {printable(configuration)}" if configuration is not None else ""
     if "catalogue" in source:
-        lines = [f"{indent}source: catalogue entry {printable(source['catalogue'])}"
-                 f"{where or ' at its default parameters'}",
+        if not where:
+            where = (" at its default parameters" if source.get("parameters") == _defaults(source["catalogue"])
+                     else " with the parameters below")
+        lines = [f"{indent}source: catalogue entry {printable(source['catalogue'])}{where}",
                  f"{indent}parameters: " + format_values(source.get("parameters", {}), indent=indent + "    ")]
     else:
         lines = [f"{indent}source: file {printable(source.get('file'))}{where}"]
     if source.get("at"):
         lines.append(f"{indent}--at: " + format_values(_flat(source["at"]), indent=indent + "    "))
     return lines
+
+
+def _defaults(name):
+    """The default parameters of catalogue entry `name` (None for a name the catalogue does not have)."""
+    from mechanisms import MechanismError, catalogue
+
+    try:
+        return catalogue.entry(name).values()
+    except MechanismError:
+        return None
 
 
 def _flat(displacements):

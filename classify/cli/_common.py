@@ -223,9 +223,15 @@ def is_entry(text):
 
 
 def entry_values(item, arguments):
-    """The entry's parameters: defaults, then the --configuration presets, then the --param texts."""
-    return item.values(arguments.configuration,
-                       **dict(catalogue.parse_parameter(item, text) for text in arguments.param))
+    """The entry's parameters: defaults, then the --configuration presets, then the --param texts (each
+    parameter once: a second value would silently replace the first)."""
+    given = {}
+    for text in arguments.param:
+        name, value = catalogue.parse_parameter(item, text)
+        if name in given:
+            raise InputError(f"--param {name}: given twice")
+        given[name] = value
+    return item.values(arguments.configuration, **given)
 
 
 def source(arguments):

@@ -15,6 +15,9 @@ from ._common import (
 
 __all__ = ["add_parser", "run"]
 
+#: distance between configurations along a --path by default (dimensionless joint coordinates)
+DEFAULT_PATH_STEP = 0.05
+
 
 def add_parser(commands):
     parser = commands.add_parser("compare", help="Park–Kim and Gosselin–Angeles side by side, with the reason "
@@ -40,7 +43,7 @@ def add_parser(commands):
     parser.add_argument("--path", type=int, default=0, metavar="N",
                         help="also compare up to N configurations each way along a curve of M through the home, "
                              "and the actuator and end-effector singularities the curve crosses")
-    parser.add_argument("--path-step", type=float, default=0.05, metavar="H",
+    parser.add_argument("--path-step", type=float, default=None, metavar="H",
                         help="distance between configurations along the path (joint-coordinate units, "
                              "default 0.05)")
     parser.add_argument("--format", choices=("json", "text"), default="text")
@@ -95,7 +98,14 @@ def run(arguments, out):
     check_length_scale(arguments.length_scale)
     check_count(arguments.samples, "--samples")
     check_count(arguments.path, "--path")
-    check_path_step(arguments.path_step)
+    step_given = arguments.path_step is not None
+    path_step = arguments.path_step if step_given else DEFAULT_PATH_STEP
+    check_path_step(path_step)
+    if step_given and not arguments.path:
+        raise InputError("--path-step: applies to a --path (none is asked)")
+    if arguments.relation is not None and arguments.inputs is not None:
+        raise InputError("--inputs: a --relation has the paper's inputs (the entry's actuated joints): other "
+                         "inputs are compared without --relation, with the derived Gosselin–Angeles matrices")
     mechanism, named = source(arguments)
     if arguments.inputs is not None:
         mechanism = actuate(mechanism, joint_list(arguments.inputs, "--inputs"), where="--inputs")
@@ -118,7 +128,7 @@ def run(arguments, out):
     start_label = "home" if arguments.configuration is None else arguments.configuration
     labels, points = [start_label], [start]
     if arguments.path:
-        labels, points = _path_rows(model, start, arguments.path, arguments.path_step, start_label)
+        labels, points = _path_rows(model, start, arguments.path, path_step, start_label)
     labels += [f"at{index}" for index in range(1, len(given) + 1)]
     points += given
     samples = sample_configurations(model, arguments.samples, rng)

@@ -247,6 +247,9 @@ def run(arguments, out):
     if dof not in (1, 2, 3):
         raise InputError(f"loci: traced for 1-, 2- and 3-dof mechanisms; {printable(mechanism.name)} has {dof} "
                          f"dof")
+    if arguments.branches != 1 and dof != 2:
+        raise InputError(f"--branches: applies to a 2-dof mechanism's grid; {printable(mechanism.name)} has {dof} "
+                         f"dof")
     columns, ranges, counts = _grid(arguments, mechanism, dof)
     coordinates = _coordinates(arguments.coordinates, mechanism,
                                columns if columns is not None else default_columns(mechanism, dof, start))

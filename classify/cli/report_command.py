@@ -593,10 +593,18 @@ def run(arguments, out):
     check_length_scale(arguments.length_scale)
     if arguments.jobs is not None and arguments.jobs < 1:
         raise InputError(f"--jobs: expected a count ≥ 1, got {arguments.jobs}")
+    for text in arguments.paths:
+        if not text:
+            raise InputError("PATH: an empty path (it would be read as the current folder)")
     for option, path in (("--output", arguments.output), ("--html", arguments.html)):
+        if path == "":
+            raise InputError(f"{option}: an empty path")
         if path and (Path(path).is_dir() or not Path(path).resolve().parent.is_dir()):
             raise InputError(f"{option}: cannot write {printable(path)}: "
                              + ("it is a folder" if Path(path).is_dir() else "its folder does not exist"))
+    if arguments.output and arguments.html and Path(arguments.output).resolve() == Path(arguments.html).resolve():
+        raise InputError(f"--output, --html: one file for both ({printable(arguments.output)}): the page would "
+                         "overwrite the text")
     tasks, order = _tasks(arguments)
     position = {key: index for index, key in enumerate(order)}
     rows = sorted(run_tasks(tasks, arguments.seed, arguments.length_scale, arguments.jobs),

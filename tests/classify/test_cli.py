@@ -374,3 +374,14 @@ def test_file_names_no_file_can_have_are_input_errors(name, capsys):
 def test_error_line_escapes_control_characters_and_surrogates(capsys):
     message = refused(["classify", "five-bar", "--configuration", "\x1b]0;x\x07\udcff"], capsys)
     assert "'\\x1b]0;x\\x07\\udcff'" in message
+
+
+def test_the_source_line_says_whether_the_parameters_are_the_defaults(capsys):
+    """It said 'at its default parameters' with a --param given too."""
+    status, out, _ = run(["classify", "slider-crank", "--format", "text"], capsys)
+    assert status == 0 and "source: catalogue entry slider-crank at its default parameters" in out
+    status, out, _ = run(["classify", "slider-crank", "--param", "crank=3", "--format", "text"], capsys)
+    assert status == 0 and "source: catalogue entry slider-crank with the parameters below" in out
+    assert "crank = 3" in out
+    status, _, err = run(["catalog", "five-bar", "--param", "base=5", "--param", "base=6"], capsys)
+    assert status == 2 and "--param base: given twice" in err and err.count("\n") == 1

@@ -80,6 +80,11 @@ def test_compare_with_the_papers_relation(capsys):
     (["compare", "spherical-six-bar"], "--outputs: 'spherical-six-bar' has no end-effector"),
     (["compare", "five-bar", "--at", "[1]"], "--at: expected a JSON object"),
     (["compare", "no-such-thing"], "no such file or catalogue entry"),
+    # options that were ignored: --inputs replaced by the relation's, --path-step without a path
+    (["compare", "slider-crank", "--relation", "eq9", "--inputs", "slide", "--outputs", "pin"],
+     "--inputs: a --relation has the paper's inputs"),
+    (["compare", "slider-crank", "--path-step", "0.1"], "--path-step: applies to a --path"),
+    (["compare", "slider-crank", "--param", "crank=3", "--param", "crank=4"], "--param crank: given twice"),
 ])
 def test_compare_input_errors_exit_2_with_one_line(arguments, fragment, capsys):
     status, out, err = run(arguments, capsys)

@@ -71,6 +71,8 @@ def test_loci_refuses_bad_input(tmp_path):
     assert status == 2 and "--kinds" in err
     status, _, err = run(["loci", "five-bar", "--out", str(tmp_path / "x.csv")])
     assert status == 2 and "--out" in err
+    status, _, err = run(["loci", "slider-crank", "--branches", "3"])  # was ignored on 1 dof
+    assert status == 2 and "--branches: applies to a 2-dof mechanism's grid; slider-crank has 1 dof" in err
 
 
 @pytest.fixture(scope="module")

@@ -143,6 +143,18 @@ def test_report_jobs_must_be_positive(capsys):
     assert status == 2 and out == "" and "--jobs" in err and err.count("\n") == 1
 
 
+@pytest.mark.parametrize("arguments, fragment", [
+    ([""], "PATH: an empty path"),                    # was read as the current folder
+    (["slider-crank", "--html", ""], "--html: an empty path"),  # wrote nothing
+    (["slider-crank", "--output", "r.txt", "--html", "r.txt"], "--output, --html: one file for both"),
+])
+def test_report_paths_that_would_be_misread_are_refused(arguments, fragment, capsys, tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)
+    status, out, err = run(["report", *arguments], capsys)
+    assert status == 2 and out == "" and fragment in err and err.count("\n") == 1
+    assert not list(tmp_path.iterdir())
+
+
 def test_a_mechanism_without_inputs_or_outputs_is_reported_with_gosselin_angeles_undefined(tmp_path, capsys):
     """No actuated joint and no end-effector: Park–Kim classifies it (classify accepts it), G–A is undefined
     (n = 0) with a listed reason — the report used to stop with an internal error in the metric of N."""
