@@ -34,6 +34,7 @@ import numpy as np
 
 from manifold import ManifoldError
 from mechanisms import ConfigurationError, MechanismError, catalogue
+from mechanisms._numerals import decimal_integer
 from mechanisms.joints import is_number
 
 from .batch import classify_many
@@ -134,11 +135,13 @@ def _axis(entry, name, value):
     low = catalogue.parse_parameter(entry, f"{name}={parts[0]}")[1]
     high = catalogue.parse_parameter(entry, f"{name}={parts[1]}")[1]
     try:
-        count = int(parts[2])
+        count = decimal_integer(parts[2])
     except ValueError:
         raise _spec_error(name, f"expected a whole number of values n in a:b:n, got {parts[2][:40]!r}") from None
     if count < 1:
         raise _spec_error(name, f"expected at least 1 value in a:b:n, got n = {count}")
+    if count == 1 and low != high:
+        raise _spec_error(name, f"n = 1 gives one value: a and b must be equal (got {low:g} and {high:g})")
     if count > DESIGN_LIMIT:
         raise _spec_error(name, f"{count} values exceed the limit of {DESIGN_LIMIT} designs per sweep")
     values = np.linspace(low, high, count)
@@ -160,7 +163,7 @@ def design_grid(entry, specs):
     specs : sequence of str
         ``K=a:b:n``: parameter K takes the n values ``numpy.linspace(a, b, n)``
         (a number parameter, or an integer one whose steps are whole); n = 1
-        gives a alone. ``K=V``: K is fixed at V (any parameter, typed as its
+        needs a = b (as ``--grid``). ``K=V``: K is fixed at V (any parameter, typed as its
         default, :func:`mechanisms.catalogue.parse_parameter`). Text is never
         evaluated.
 

@@ -39,7 +39,7 @@ def parse_axis(text, option="--grid"):
     start = coordinate_number(fields[0], f"{where}: a")
     stop = coordinate_number(fields[1], f"{where}: b")
     count_text = fields[2].strip()
-    if not count_text.isdecimal() or len(count_text) > 12 or int(count_text) < 1:
+    if not (count_text.isascii() and count_text.isdecimal()) or len(count_text) > 12 or int(count_text) < 1:
         raise InputError(f"{where}: n: expected an integer ≥ 1, got "
                          f"{shown(fields[2]) if count_text else 'nothing'}")
     count = int(count_text)

@@ -80,9 +80,14 @@ def coordinate_number(text, where, empty="nothing"):
     InputError
         One line: not a number, not finite, or out of range.
     """
+    from mechanisms._numerals import decimal_number
+
     try:
-        value = float(text)
-    except ValueError:
+        value = decimal_number(text)
+    except ValueError as error:
+        if "below the smallest float" in str(error):
+            raise InputError(f"{where}: {shown(text.strip())} is below the smallest float (it would read as 0)") \
+                from None
         raise InputError(f"{where}: expected a number, got {shown(text) if text.strip() else empty}") from None
     if not math.isfinite(value):
         raise InputError(f"{where}: expected a finite number, got {shown(text.strip())}")

@@ -8,6 +8,7 @@ from __future__ import annotations
 import csv
 import io
 import json
+import os
 import sys
 from contextlib import contextmanager
 from pathlib import Path
@@ -94,6 +95,11 @@ def _check_out(path):
     folder = Path(path).parent
     if not folder.is_dir():
         raise InputError(f"--out: {printable(path)[:80]}: no folder {printable(folder)[:80]}")
+    # before the sweep, not after it: a folder in the way, or a folder this process cannot write in
+    if Path(path).is_dir():
+        raise InputError(f"--out: {printable(path)[:80]}: it is a folder")
+    if not os.access(folder, os.W_OK):
+        raise InputError(f"--out: {printable(path)[:80]}: the folder {printable(folder)[:80]} is not writable")
     if suffix == ".parquet":
         _pyarrow()
 

@@ -17,6 +17,7 @@ from typing import Callable, Mapping
 
 import numpy as np
 
+from .._numerals import decimal_integer, decimal_number
 from ..errors import MechanismError
 from ..joints import COORDINATE_LIMIT, check_text, is_number
 from ..mechanism import Mechanism
@@ -181,15 +182,16 @@ def parse_parameter(entry, text):
         return name, value.lower() == "true"
     if isinstance(default, int):
         try:
-            number = int(value)
+            number = decimal_integer(value)
         except ValueError:
             raise MechanismError(f"--param {name}: expected an integer, got {value[:40]!r}") from None
         return name, _in_range(number, name)
     if is_number(default):
         try:
-            number = float(value)
-        except ValueError:
-            raise MechanismError(f"--param {name}: expected a number, got {value[:40]!r}") from None
+            number = decimal_number(value)
+        except ValueError as error:
+            reason = str(error) if "smallest float" in str(error) else f"expected a number, got {value[:40]!r}"
+            raise MechanismError(f"--param {name}: {reason}") from None
         if not math.isfinite(number):
             raise MechanismError(f"--param {name}: expected a finite number, got {value[:40]!r}")
         return name, _in_range(number, name)

@@ -298,6 +298,12 @@ def test_grid_errors_exit_2_with_one_line(grid, fragment):
     (["map", "five-bar", "--grid", "A=0:0:1", "--seed", "2"], "--seed: does not apply"),
     (["map", "five-bar", "--grid", "A=0:0:1", "--out", "map.txt"], "--out: map.txt: expected a file ending in"),
     (["map", "five-bar", "--grid", "A=0:0:1", "--param", "nothing=1"], "has no parameter 'nothing'"),
+    # numbers read as written: other scripts' digits, underscores, a nonzero number that would read as 0
+    (["map", "five-bar", "--grid", "A=\u0663:1:3"], "a: expected a number"),
+    (["map", "five-bar", "--grid", "A=0:1:\u0663"], "n: expected an integer ≥ 1"),
+    (["map", "five-bar", "--grid", "A=0_0:1:3"], "a: expected a number"),
+    (["map", "five-bar", "--grid", "A=1e-400:1:3"], "is below the smallest float"),
+    (["map", "five-bar", "--grid", "A=0:1:3", "--param", "base=\u0665"], "--param base: expected a number"),
 ])
 def test_other_bad_options_exit_2(argv, fragment):
     status, _, err = run(argv)

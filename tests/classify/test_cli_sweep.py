@@ -213,3 +213,12 @@ def test_the_text_table_stops_at_its_limit(capfd, monkeypatch):
     lines = out.splitlines()
     assert [line.split()[0] for line in lines[2:4]] == ["0", "1"]
     assert lines[4] == "  … 1 more design: every row is in --out FILE or --format json"
+
+
+def test_an_output_path_that_cannot_be_written_is_refused_before_the_sweep(capfd, tmp_path):
+    """A folder in the way was found only after every design had been classified (two lines on stderr)."""
+    (tmp_path / "d.json").mkdir()
+    status, out, err = run([*GRID, "--samples", "2", "--scheduler", "serial", "--out", str(tmp_path / "d.json")],
+                           capfd)
+    assert status == 2 and out == "" and err.count("\n") == 1 and "it is a folder" in err
+    assert "sweeping" not in err

@@ -44,6 +44,10 @@ def test_the_grid_is_in_c_order_with_exact_ends():
     ends = design_grid("slider-crank", ["crank=0.1:0.7:7"]).axes[0][1]
     assert ends[0] == 0.1 and ends[-1] == 0.7 and len(ends) == 7
     assert design_grid("slider-crank", ["crank=2:2:1"]).parameters(0) == {"crank": 2.0}
+    with pytest.raises(MechanismError, match="n = 1 gives one value: a and b must be equal"):  # 3 was dropped
+        design_grid("slider-crank", ["crank=2:3:1"])
+    with pytest.raises(MechanismError, match="expected a whole number of values"):
+        design_grid("slider-crank", ["crank=2:3:1_0"])
     assert len(design_grid("slider-crank", [])) == 1 and design_grid("slider-crank", []).parameters(0) == {}
     document = grid.to_dict()
     assert document["designs"] == 6 and document["axes"]["assembly"] == [-1, 1]

@@ -1,0 +1,53 @@
+"""Numbers written as text (command-line options, CSV cells, catalogue parameters): plain decimal notation.
+
+Python's ``float`` and ``int`` also read other scripts' digits (``'٣'`` is 3),
+underscores between digits (``'1_0'`` is 10) and round a nonzero number below
+the smallest float to 0 (``'1e-400'``): a value the user did not write. These
+read only ASCII digits, an optional sign, point and exponent, and the words
+``inf``, ``infinity`` and ``nan`` (which the callers refuse as not finite,
+saying so); the standard library only, so the command can use them at start.
+"""
+
+from __future__ import annotations
+
+import re
+
+__all__ = ["decimal_number", "decimal_integer"]
+
+_DECIMAL = re.compile(r"[+-]?(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][+-]?\d+)?", re.ASCII)
+_WORD = re.compile(r"[+-]?(?:inf|infinity|nan)", re.ASCII | re.IGNORECASE)
+_INTEGER = re.compile(r"[+-]?\d+", re.ASCII)
+
+
+def decimal_number(text):
+    """The float written in `text` (surrounding spaces allowed).
+
+    Raises
+    ------
+    ValueError
+        If `text` is not plain decimal notation, or names a nonzero number too small for a float (it would
+        read as 0).
+    """
+    stripped = text.strip()
+    if _WORD.fullmatch(stripped):
+        return float(stripped)
+    if not _DECIMAL.fullmatch(stripped):
+        raise ValueError(f"not a number in decimal notation: {text!r}")
+    value = float(stripped)
+    if value == 0.0 and re.search(r"[1-9]", re.split(r"[eE]", stripped)[0]):
+        raise ValueError(f"{stripped} is nonzero but below the smallest float (it would read as 0)")
+    return value
+
+
+def decimal_integer(text):
+    """The integer written in `text` with ASCII digits (an optional sign; surrounding spaces allowed).
+
+    Raises
+    ------
+    ValueError
+        If `text` is anything else.
+    """
+    stripped = text.strip()
+    if not _INTEGER.fullmatch(stripped):
+        raise ValueError(f"not an integer in decimal notation: {text!r}")
+    return int(stripped)
