@@ -299,6 +299,8 @@ def _diagnosis(text):
         return f"the root element is <{root.tag}>, not <robot> (is this a URDF file?)"
     if "xmlns:xacro" in text or any("${" in value for element in root.iter() for value in element.attrib.values()):
         return "a xacro file (macros, ${...} expressions): expand it first, e.g. `xacro robot.urdf.xacro > robot.urdf`"
+    if not root.get("name"):
+        return "<robot>: attribute 'name' is missing"
     for element in root:
         if element.tag not in _REQUIRED:
             continue
@@ -311,7 +313,31 @@ def _diagnosis(text):
             found = element.find(child)
             if found is None or not found.get(attribute):
                 return f"{label}: <{child} {attribute}=\"...\"/> is missing"
+        for part in element.iter():
+            for attribute in _VECTORS.get(part.tag, ()):
+                value = part.get(attribute)
+                if value is not None and not _is_vector(value):
+                    return f"{label}: <{part.tag} {attribute}=\"{value[:40]}\">: expected three numbers"
     return None
+
+
+#: the attributes of three numbers, per element (in joints, links' inertial, visual and collision)
+_VECTORS = {"origin": ("xyz", "rpy"), "axis": ("xyz",)}
+
+
+def _is_vector(text):
+    """Whether `text` is three numbers separated by spaces (the words inf and nan included: refused later)."""
+    from ._numerals import decimal_number
+
+    parts = text.split()
+    if len(parts) != 3:
+        return False
+    try:
+        for item in parts:
+            decimal_number(item)
+    except ValueError:
+        return False
+    return True
 
 
 def looks_like_urdf(path):

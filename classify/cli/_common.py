@@ -9,6 +9,8 @@ from pathlib import Path
 
 from mechanisms import MechanismError, catalogue
 
+from ..text import printable
+
 __all__ = [
     "MECHANISM_SUFFIXES", "COUNT_LIMIT", "SEED_LIMIT", "LENGTH_SCALE_RATIO", "PATH_STEP_RANGE",
     "InputError", "Parser", "entry_options", "common_options", "displacements",
@@ -264,7 +266,9 @@ def _source(arguments):
         arguments.imported = imported
         return imported.mechanism, {}
     if closures is not None:
-        raise InputError(f"--closures: applies to a URDF input (.urdf), not to {arguments.file}")
+        if not path_exists(arguments.file):
+            raise InputError(f"{printable(arguments.file)}: no such file")
+        raise InputError(f"--closures: applies to a URDF input (.urdf), not to {printable(arguments.file)}")
     if not path_exists(arguments.file) and path.suffix not in MECHANISM_SUFFIXES:
         raise InputError(f"{arguments.file}: no such file or catalogue entry (see `closedchain catalog`)")
     if arguments.param:

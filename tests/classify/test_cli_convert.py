@@ -71,6 +71,8 @@ def test_convert_catalogue_entry_to_urdf_and_back(tmp_path, capsys):
     (["classify", str(ROBOTS / "5bar_linkage" / "robot.urdf"), "--closures",
       str(ROBOTS / "5bar_linkage_iso3d" / "robot.yaml")], "unknown frame 'closedloop3D_1B'"),
     (["classify", "five-bar", "--closures", "x.yaml"], "--closures: applies to a URDF input"),
+    (["convert", "nope.urdf", "--closures", str(ROBOTS / "5bar_linkage" / "robot.yaml"), "--write", "c.yaml"],
+     "nope.urdf: no such file"),  # it said --closures did not apply to nope.urdf
     (["convert", "five-bar", "--write", "out.txt"], "--write: expected"),
     (["classify", *robot_arguments("5bar_linkage"), "--param", "a=1"], "--param: does not apply"),
     (["classify", str(ROBOTS / "5bar_linkage" / "robot.urdf"), "--closures",
