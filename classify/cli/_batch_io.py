@@ -315,6 +315,8 @@ def model_survey(path, model):
 
     if path is None:
         return survey_of(model)
+    if not path:
+        raise InputError("--survey: an empty path")
     try:
         return cached_survey(path, model)[0]
     except SurveyCacheError as error:

@@ -252,6 +252,8 @@ def _source(arguments):
     from mechanisms.io import read  # imported when used: YAML, NumPy
 
     closures = getattr(arguments, "closures", None)
+    if not arguments.file:
+        raise InputError("FILE|NAME: an empty path (a mechanism file or a catalogue name is expected)")
     if is_entry(arguments.file):
         if closures is not None:
             raise InputError("--closures: applies to a URDF input, not to a catalogue entry")

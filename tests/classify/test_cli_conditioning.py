@@ -218,3 +218,18 @@ def test_a_param_outside_the_papers_relation_derives_it():
     result = json.loads(out)
     assert status == 0 and result["relation"] == "derived"
     assert result["kappa"]["A"] != pytest.approx(json.loads(paper)["kappa"]["A"], rel=1e-3)
+
+
+def test_a_serial_chain_is_conditioned_by_its_jacobian(tmp_path):
+    """No loop, so DΦ has no rows (it ended in 'cannot reshape array of size 0'): a 2R arm of unit links with
+    the elbow at 90° has Df = [[−1, −1], [1, 0]], whose condition number is (3 + √5)/2, and λ = κ²."""
+    path = tmp_path / "serial.yaml"
+    path.write_text("name: serial\nspace: planar\njoints:\n"
+                    "  - {name: A, type: R, links: [ground, l1], point: [0, 0], actuated: true}\n"
+                    "  - {name: B, type: R, links: [l1, l2], point: [1, 0], actuated: true}\n"
+                    "end_effector: {link: l2, point: [1, 1], output: position}\n", encoding="utf-8")
+    status, out, _ = run("conditioning", str(path))
+    assert status == 0
+    kappa = json.loads(out)["kappa"]
+    assert kappa["A-1B"] == pytest.approx((3 + math.sqrt(5)) / 2, rel=1e-9)
+    assert kappa["lambda"] == pytest.approx(kappa["A-1B"] ** 2, rel=1e-9)

@@ -304,6 +304,9 @@ def test_grid_errors_exit_2_with_one_line(grid, fragment):
     (["map", "five-bar", "--grid", "A=0_0:1:3"], "a: expected a number"),
     (["map", "five-bar", "--grid", "A=1e-400:1:3"], "is below the smallest float"),
     (["map", "five-bar", "--grid", "A=0:1:3", "--param", "base=\u0665"], "--param base: expected a number"),
+    # an empty path was named '.'
+    (["map", "", "--grid", "A=0:1:3"], "FILE|NAME: an empty path"),
+    (["map", "five-bar", "--grid", "A=0:1:3", "--survey", ""], "--survey: an empty path"),
 ])
 def test_other_bad_options_exit_2(argv, fragment):
     status, _, err = run(argv)
