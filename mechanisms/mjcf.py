@@ -166,10 +166,15 @@ _GEOMETRY = {"body_pos": "a body's pos", "body_quat": "a body's quat (or euler, 
 
 
 def _check_finite(model, path):
-    """MechanismError naming the first non-finite geometry: MuJoCo accepts NaN and inf (with a warning)."""
+    """MechanismError naming the first non-finite geometry (MuJoCo accepts NaN and inf, with a warning) or the
+    first position beyond ±COORDINATE_LIMIT (as in a mechanism file)."""
     import numpy as np
+
+    from .joints import COORDINATE_LIMIT
 
     for field, meaning in _GEOMETRY.items():
         values = np.asarray(getattr(model, field), dtype=float)
         if values.size and not np.all(np.isfinite(values)):
             raise MechanismError(f"{path}: MJCF: {meaning} is not finite (NaN or infinity)")
+        if field.endswith("_pos") and values.size and np.max(np.abs(values)) > COORDINATE_LIMIT:
+            raise MechanismError(f"{path}: MJCF: {meaning} is beyond ±{COORDINATE_LIMIT:g} (as in a mechanism file)")

@@ -53,6 +53,7 @@ too (:mod:`mechanisms.mjcf`).
 from __future__ import annotations
 
 import io
+import math
 from collections import deque
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -316,8 +317,9 @@ def _diagnosis(text):
         for part in element.iter():
             for attribute in _VECTORS.get(part.tag, ()):
                 value = part.get(attribute)
-                if value is not None and not _is_vector(value):
-                    return f"{label}: <{part.tag} {attribute}=\"{value[:40]}\">: expected three numbers"
+                reason = None if value is None else _vector_fault(value)
+                if reason is not None:
+                    return f"{label}: <{part.tag} {attribute}=\"{value[:40]}\">: {reason}"
     return None
 
 
@@ -325,19 +327,22 @@ def _diagnosis(text):
 _VECTORS = {"origin": ("xyz", "rpy"), "axis": ("xyz",)}
 
 
-def _is_vector(text):
-    """Whether `text` is three numbers separated by spaces (the words inf and nan included: refused later)."""
+def _vector_fault(text):
+    """What is wrong with `text` as three numbers separated by spaces, or None (the words inf and nan pass:
+    they are refused later, naming the joint), beyond ±COORDINATE_LIMIT included (as in a mechanism file)."""
     from ._numerals import decimal_number
+    from .joints import COORDINATE_LIMIT
 
     parts = text.split()
-    if len(parts) != 3:
-        return False
     try:
-        for item in parts:
-            decimal_number(item)
+        values = [decimal_number(item) for item in parts]
     except ValueError:
-        return False
-    return True
+        values = None
+    if values is None or len(values) != 3:
+        return "expected three numbers"
+    if any(abs(value) > COORDINATE_LIMIT for value in values if math.isfinite(value)):
+        return f"a number beyond ±{COORDINATE_LIMIT:g} (as in a mechanism file)"
+    return None
 
 
 def looks_like_urdf(path):
