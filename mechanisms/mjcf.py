@@ -13,7 +13,7 @@ second) and ``weld`` (a ``6d`` closure: the second body at ``relpose``,
 ``eq_data[3:10]``, from the first), and the actuated joints from
 ``<actuator>`` elements that drive a joint (an actuator on a tendon, site or
 body is named in the notes and not counted). Inactive equalities are
-ignored; a ``joint`` or ``tendon`` equality (a coupling of values, not a
+not closures (the notes say so); a ``joint`` or ``tendon`` equality (a coupling of values, not a
 loop closure) is refused, naming it.
 Assembly and building are those of :func:`mechanisms.urdf.import_tree`.
 """
@@ -87,6 +87,8 @@ def tree_from_mjcf(model, source="MJCF"):
     loops, types = [], []
     for index in range(model.neq):
         if not model.eq_active0[index]:
+            notes.append(f"equality {name(mujoco.mjtObj.mjOBJ_EQUALITY, index, 'equality')!r} is inactive "
+                         f"(active=\"false\"): not a loop closure")
             continue
         kind = int(model.eq_type[index])
         data = np.asarray(model.eq_data[index], dtype=float)

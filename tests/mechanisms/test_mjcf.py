@@ -78,7 +78,7 @@ def test_mjcf_compiler_errors_are_one_line(tmp_path):
     (r'anchor="[^"]*"', 'anchor="inf 0 0"', "equality's data"),
     (r'(<joint name="B" type="hinge" axis="0 0 1")', r'\1 pos="1e300 0 0"', "joint's pos is beyond"),
 ])
-def test_non_finite_geometry_is_refused_in_one_line(tmp_path, capfd, pattern, replacement, meaning):
+def test_non_finite_or_huge_geometry_is_refused_in_one_line(tmp_path, capfd, pattern, replacement, meaning):
     """MuJoCo compiles NaN and infinity with a warning on stdout; the import used to end in a LinAlgError."""
     from mechanisms.mjcf import read_mjcf
 
@@ -91,3 +91,16 @@ def test_non_finite_geometry_is_refused_in_one_line(tmp_path, capfd, pattern, re
         read_mjcf(path)
     captured = capfd.readouterr()  # MuJoCo writes from C: the file descriptors, not sys.stdout
     assert captured.out == "" and captured.err == ""
+
+
+def test_an_inactive_connect_is_said_not_to_close_a_loop(tmp_path):
+    """MuJoCo's active="false": the equality is off, so no loop; the import said nothing of it."""
+    from mechanisms.mjcf import read_mjcf
+
+    text = five_bar_xml(entry("five-bar").mechanism()).replace('<connect name="tip"', '<connect name="tip" '
+                                                               'active="false"', 1)
+    path = tmp_path / "off.xml"
+    path.write_text(text, encoding="utf-8")
+    imported = read_mjcf(path)
+    assert imported.mechanism.loop_count == 0
+    assert any("equality 'tip' is inactive" in note for note in imported.notes)
