@@ -44,6 +44,7 @@ import numpy as np
 
 from manifold import DEFAULT_ATOL, DEFAULT_RTOL, implicit
 from mechanisms import CLOSURE_TOLERANCE, ConfigurationError, Mechanism, closure_and_jacobian
+from mechanisms.mechanism import dense_memory_estimate
 
 from .classification import classify
 from .metrics import JACOBI_ROWS, JACOBI_STACK, metric_root, proper_values, singular_values
@@ -285,16 +286,17 @@ def classify_many(mechanism, points, survey=None, rtol=DEFAULT_RTOL, length_scal
 
 
 def default_chunk(model):
-    """Configurations per chunk of :func:`classify_many` by default: DΦ (c × k) of the whole chunk within
-    :data:`manifold.implicit.CHUNK_ENTRIES` floats (8 MiB), at least one configuration.
+    """Configurations per chunk of :func:`classify_many` by default: the dense arrays of the whole chunk (DΦ,
+    c × k, and the tangent bases, k × (k − c), as :func:`mechanisms.dense_memory_estimate` counts them)
+    within :data:`manifold.implicit.CHUNK_ENTRIES` floats (8 MiB), at least one configuration.
 
-    So a chunk takes about the same memory (a few times that of its DΦ)
-    whatever the mechanism: it holds 69,905 configurations of the five-bar
-    (DΦ 3 × 5), 970 of the Gough–Stewart (30 × 36), 8 of a ladder of 100
-    four-bar loops (300 × 400).
+    So a chunk takes about the same memory whatever the mechanism: it holds
+    19,065 configurations of the five-bar (DΦ 3 × 5), 539 of the
+    Gough–Stewart (30 × 36), 3 of a ladder of 100 four-bar loops (300 × 400),
+    7,281 of a serial 6R arm (no DΦ, but 6 × 6 tangent bases).
     """
-    rows = np.shape(model.manifold.constraint(model.starts[0]))[-1]
-    return max(1, implicit.CHUNK_ENTRIES // max(1, rows * model.manifold.ambient.dim))
+    per_configuration = dense_memory_estimate(model.manifold.ambient.dim, model.constraint_rows) // 8
+    return max(1, implicit.CHUNK_ENTRIES // max(1, per_configuration))
 
 
 def _decisions(values, tolerance):

@@ -73,6 +73,14 @@ class Model:
     def end_effector_dimension(self):
         return 0 if self.end_effector_metric is None else int(self.end_effector_metric.shape[0])
 
+    @property
+    def constraint_rows(self):
+        """c, the rows of Φ (and of DΦ), from Φ at the first start (kept in :attr:`cache`)."""
+        if "constraint_rows" not in self.cache:
+            point = np.asarray(self.starts[0], dtype=float)
+            self.cache["constraint_rows"] = int(np.shape(self.manifold.constraint(point))[-1])
+        return self.cache["constraint_rows"]
+
 
 def model_of(mechanism, length_scale=None):
     """The :class:`Model` of a joint-graph mechanism, one per mechanism object and length scale.

@@ -109,7 +109,7 @@ def _check_fits(survey, model, where):
     """SurveyCacheError unless every rank can be the model's: present exactly when it has an end-effector (the
     end-effector and stacked ranks), and at most the size of its map (a rank of DΦ above min(c, k)...)."""
     size = model.manifold.ambient.dim
-    rows = int(np.shape(model.manifold.constraint(np.asarray(model.starts[0], dtype=float)))[-1])
+    rows = model.constraint_rows
     actuators, outputs = len(model.actuators), model.end_effector_dimension
     largest = {"constraint_rank": min(rows, size), "actuator_rank": min(actuators, size),
                "end_effector_rank": min(outputs, size), "joint_rank": min(actuators + outputs, size)}
