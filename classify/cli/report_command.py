@@ -49,7 +49,7 @@ CONFIGURATION_PARAMETERS = {
     "spherical-six-bar": ("theta1", "theta2", "theta3", "branch"),
     "planar-six-bar": ("theta1", "theta2", "theta3", "branch"),
     "eclipse": ("x", "y", "z", "roll", "pitch", "yaw", "elbow"),
-    "watt-six-bar": ("theta", "branch_rocker", "branch_output", "psi", "phi"),
+    "watt-six-bar": ("theta", "branch_rocker", "branch_output", "psi"),
     "planar-3rrr": ("x", "y", "phi", "mode1", "mode2", "mode3", "theta1", "theta2", "theta3"),
     "spherical-3rrr": ("rotation_x", "rotation_y", "rotation_z", "working_mode_1", "working_mode_2",
                        "working_mode_3", "theta_folded"),

@@ -39,6 +39,11 @@ ROCKER_PIVOT = (-0.5, math.sqrt(3.0) / 2)
 OUTPUT_PIVOT = (-1.0, 0.0)
 #: Tolerance (relative to the lengths) on a circle intersection that just fails to meet.
 _REACH_TOLERANCE = 1e-9
+_EPSILON = 2.0 ** -52
+#: A triangle's cosine this close to ±1 (in units of the rounding unit) is that of a flat triangle: the law of
+#: cosines computes it from rounded sides to a few units, and through the double root of the arccosine those
+#: units would become an angle of about √ε ≈ 1e-8 (a D₁ or D₂ configuration singular only to 1e-8).
+_FLAT_TRIANGLE = 16
 
 
 def _point(origin, length, angle):
@@ -57,11 +62,14 @@ def _triangle_angle(adjacent, other, opposite, what):
     """The angle between sides `adjacent` and `other` of a triangle with third side `opposite`.
 
     Law of cosines, as in G-A eqs. (23)-(24); MechanismError naming `what` when the triangle
-    does not exist (beyond a rounding tolerance, clipped).
+    does not exist (beyond a rounding tolerance, clipped); flat (angle 0 or π) when the cosine
+    is ±1 to :data:`_FLAT_TRIANGLE` rounding units.
     """
     cosine = (adjacent ** 2 + other ** 2 - opposite ** 2) / (2 * adjacent * other)
     if abs(cosine) > 1 + _REACH_TOLERANCE:
         raise MechanismError(f"watt-six-bar: {what} (cos = {cosine:.6g})")
+    if abs(abs(cosine) - 1.0) <= _FLAT_TRIANGLE * _EPSILON:  # flat to rounding: the angle is 0 or π exactly
+        cosine = math.copysign(1.0, cosine)
     return math.acos(max(-1.0, min(1.0, cosine)))
 
 
@@ -73,7 +81,7 @@ def _circle_intersection(first_centre, first_radius, second_centre, second_radiu
     return _point(first_centre, first_radius, _angle(chord) + side * turn)
 
 
-def watt_positions(*, l1, l2, l3, l4, theta, branch_rocker=1, branch_output=1, psi=0.0, phi=0.0):
+def watt_positions(*, l1, l2, l3, l4, theta, branch_rocker=1, branch_output=1, psi=0.0):
     """The joint centres of the Watt six-bar at input θ (closed-form, G-A eqs. 18-24).
 
     Parameters
@@ -85,13 +93,10 @@ def watt_positions(*, l1, l2, l3, l4, theta, branch_rocker=1, branch_output=1, p
     branch_rocker : {1, -1, 0}
         ψ = β + branch · arccos((1 + d² − l₂²) / (2d)) (eq. 24), d = ‖J₂ − P‖; 0: ψ is given by
         `psi` instead (needed where J₂ = P, eq. 41 with l₁ = l₂ = 1).
-    branch_output : {1, -1, 0}
-        φ = α + branch · arccos((l₃² + r² − l₄²) / (2 l₃ r)) (eq. 23), r = ‖V − O‖; 0: φ is given by
-        `phi` instead.
+    branch_output : {1, -1}
+        φ = α + branch · arccos((l₃² + r² − l₄²) / (2 l₃ r)) (eq. 23), r = ‖V − O‖.
     psi : float
         ψ when ``branch_rocker == 0``.
-    phi : float
-        φ when ``branch_output == 0``.
 
     Returns
     -------
@@ -105,6 +110,8 @@ def watt_positions(*, l1, l2, l3, l4, theta, branch_rocker=1, branch_output=1, p
     """
     joint1, joint4, joint7 = CRANK_PIVOT, ROCKER_PIVOT, OUTPUT_PIVOT
     joint2 = _point(joint1, l1, theta)
+    to_crank = _difference(joint2, joint4)
+    d = math.hypot(*to_crank)
     if branch_rocker == 0:
         joint3 = _point(joint4, 1.0, psi)
         gap = math.hypot(*_difference(joint3, joint2)) - l2
@@ -112,40 +119,26 @@ def watt_positions(*, l1, l2, l3, l4, theta, branch_rocker=1, branch_output=1, p
             raise MechanismError(f"watt-six-bar: psi = {psi} with branch_rocker = 0: the coupler l2 "
                                  f"does not close (‖J2 J3‖ − l2 = {gap:.3g})")
     else:
-        psi = _rocker_angle(joint2, l2, branch_rocker, theta)
+        if d < _REACH_TOLERANCE:
+            raise MechanismError(f"watt-six-bar: theta = {theta}: joints 2 and 4 coincide, ψ is free; "
+                                 "give it with branch_rocker = 0 and psi")
+        psi = _angle(to_crank) + branch_rocker * _triangle_angle(
+            1.0, d, l2, f"theta = {theta}: the coupler l2 cannot reach the rocker")
         joint3 = _point(joint4, 1.0, psi)
     joint5 = _point(joint4, 1.0, psi + math.pi / 3)
     to_rocker = _difference(joint5, joint7)
     r = math.hypot(*to_rocker)
-    if branch_output == 0:
-        joint6 = _point(joint7, l3, phi)
-        gap = math.hypot(*_difference(joint6, joint5)) - l4
-        if abs(gap) > _REACH_TOLERANCE * max(1.0, l4):
-            raise MechanismError(f"watt-six-bar: phi = {phi} with branch_output = 0: the coupler l4 "
-                                 f"does not close (‖J5 J6‖ − l4 = {gap:.3g})")
-    else:
-        if r < _REACH_TOLERANCE:
-            raise MechanismError(f"watt-six-bar: theta = {theta}: joints 5 and 7 coincide, φ is undetermined")
-        phi = _angle(to_rocker) + branch_output * _triangle_angle(
-            l3, r, l4, f"theta = {theta}: the coupler l4 cannot reach the output link")
-        joint6 = _point(joint7, l3, phi)
+    if r < _REACH_TOLERANCE:
+        raise MechanismError(f"watt-six-bar: theta = {theta}: joints 5 and 7 coincide, φ is undetermined")
+    phi = _angle(to_rocker) + branch_output * _triangle_angle(
+        l3, r, l4, f"theta = {theta}: the coupler l4 cannot reach the output link")
+    joint6 = _point(joint7, l3, phi)
     return {"joint1": joint1, "joint2": joint2, "joint3": joint3, "joint4": joint4,
             "joint5": joint5, "joint6": joint6, "joint7": joint7, "psi": psi, "phi": phi}
 
 
-def _rocker_angle(joint2, l2, branch, theta):
-    """ψ on the rocker's `branch` (±1) with joint 2 at `joint2` (G-A eq. 24)."""
-    to_crank = _difference(joint2, ROCKER_PIVOT)
-    d = math.hypot(*to_crank)
-    if d < _REACH_TOLERANCE:
-        raise MechanismError(f"watt-six-bar: theta = {theta}: joints 2 and 4 coincide, ψ is free; "
-                             "give it with branch_rocker = 0 and psi")
-    return _angle(to_crank) + branch * _triangle_angle(1.0, d, l2, f"theta = {theta}: the coupler l2 cannot "
-                                                                     "reach the rocker")
-
-
 def watt_six_bar(*, l1=1.2, l2=1.6, l3=0.6, l4=1.5, theta=0.7, branch_rocker=1, branch_output=1, psi=0.0,
-                 phi=0.0, end_effector=True):
+                 end_effector=True):
     """Watt six-bar (G-A Fig. 5) driven by the crank θ, output the angle φ of link l₃.
 
     Parameters
@@ -158,16 +151,11 @@ def watt_six_bar(*, l1=1.2, l2=1.6, l3=0.6, l4=1.5, theta=0.7, branch_rocker=1, 
         Input angle θ (rad), eq. (22).
     branch_rocker : {1, -1, 0}
         Branch of ψ (eq. 24): ±1 the sign of sin(ψ − β); 0: ψ given by `psi` (where joints 2 and
-        4 coincide, eq. 41 with l₁ = l₂ = 1, or where the branches meet, l₂ aligned with joints
-        3-4, eq. 39).
-    branch_output : {1, -1, 0}
-        Branch of φ (eq. 23): the sign of sin(φ − α) in our frame; 0: φ given by `phi` (where the
-        branches meet, l₃ and l₄ aligned, eq. 40: there φ from θ through the arccosine of eq. 23
-        is exact only to about √ε).
+        4 coincide, eq. 41 with l₁ = l₂ = 1).
+    branch_output : {1, -1}
+        Branch of φ (eq. 23): the sign of sin(φ − α) in our frame.
     psi : float
         ψ (rad) when ``branch_rocker == 0``; ignored otherwise.
-    phi : float
-        φ (rad, our frame) when ``branch_output == 0``; ignored otherwise.
     end_effector : bool
         Whether the orientation of the output link l₃ (the angle φ) is the end-effector.
 
@@ -190,10 +178,10 @@ def watt_six_bar(*, l1=1.2, l2=1.6, l3=0.6, l4=1.5, theta=0.7, branch_rocker=1, 
             raise MechanismError(f"watt-six-bar: {name} must be positive, got {value}")
     if branch_rocker not in (-1, 0, 1):
         raise MechanismError(f"watt-six-bar: branch_rocker must be 1, -1 or 0, got {branch_rocker}")
-    if branch_output not in (-1, 0, 1):
-        raise MechanismError(f"watt-six-bar: branch_output must be 1, -1 or 0, got {branch_output}")
+    if branch_output not in (-1, 1):
+        raise MechanismError(f"watt-six-bar: branch_output must be 1 or -1, got {branch_output}")
     points = watt_positions(**lengths, theta=theta, branch_rocker=branch_rocker,
-                            branch_output=branch_output, psi=psi, phi=phi)
+                            branch_output=branch_output, psi=psi)
     return Mechanism("watt-six-bar", "planar", [
         Joint("joint1", "R", ("ground", "crank"), point=points["joint1"], actuated=True),
         Joint("joint2", "R", ("crank", "coupler"), point=points["joint2"]),
@@ -223,11 +211,7 @@ def watt_singular_configuration(condition, *, l1, l2, l3, l4, stretched=True, si
     Returns
     -------
     dict
-        ``theta``, ``branch_rocker``, ``branch_output`` for :func:`watt_six_bar`; for D₁ and D₂,
-        where θ is at a fold of the rocker's (eq. 24), resp. the output's (eq. 23) assembly,
-        ``branch_rocker = 0`` with ``psi``, resp. ``branch_output = 0`` with ``phi``: the aligned
-        pair placed along its line, so the factor vanishes to rounding (through the double root
-        of the arccosine it would vanish only to about √ε).
+        ``theta``, ``branch_rocker``, ``branch_output`` for :func:`watt_six_bar`.
 
     Raises
     ------
@@ -245,30 +229,19 @@ def watt_singular_configuration(condition, *, l1, l2, l3, l4, stretched=True, si
     elif condition == "D1":
         joint2 = _circle_intersection(pivot, l1, rocker, abs(1.0 + sign * l2), side,
                                       f"{condition}: joint 2 cannot be at ‖1 ± l2‖ from joint 4")
-        # joint 3 on the line of joints 4 and 2: towards joint 2, or away from it when folded with l2 > 1
-        psi = _angle(_difference(joint2, rocker)) + (0.0 if (stretched or l2 < 1) else math.pi)
-        return {"theta": _angle(joint2), "branch_rocker": 0, "psi": psi, "branch_output": 1}
-    elif condition == "N2":
-        joint6 = _circle_intersection(output, l3, rocker, abs(1.0 + sign * l4), side,
-                                      f"{condition}: joint 6 cannot be at ‖1 ± l4‖ from joint 4")
-        toward = _angle(_difference(joint6, rocker)) + (0.0 if (stretched or l4 < 1) else math.pi)
-        joint5 = _point(rocker, 1.0, toward)
+        theta, output_branch = _angle(joint2), 1
+    elif condition in ("N2", "D2"):
+        if condition == "N2":
+            joint6 = _circle_intersection(output, l3, rocker, abs(1.0 + sign * l4), side,
+                                          f"{condition}: joint 6 cannot be at ‖1 ± l4‖ from joint 4")
+            toward = _angle(_difference(joint6, rocker)) + (0.0 if (stretched or l4 < 1) else math.pi)
+            joint5 = _point(rocker, 1.0, toward)
+        else:
+            joint5 = _circle_intersection(rocker, 1.0, output, abs(l3 + sign * l4), side,
+                                          f"{condition}: joint 5 cannot be at ‖l3 ± l4‖ from joint 7")
         psi = _angle(_difference(joint5, rocker)) - math.pi / 3
         theta = watt_input_for_rocker(psi, l1=l1, l2=l2)
         output_branch = None
-    elif condition == "D2":
-        joint5 = _circle_intersection(rocker, 1.0, output, abs(l3 + sign * l4), side,
-                                      f"{condition}: joint 5 cannot be at ‖l3 ± l4‖ from joint 7")
-        psi = _angle(_difference(joint5, rocker)) - math.pi / 3
-        theta = watt_input_for_rocker(psi, l1=l1, l2=l2)
-        # the rocker's branch that brings it to ψ (not at a fold), and joint 5 where the builder puts it
-        joint2 = _point(pivot, l1, theta)
-        branch_rocker = min((1, -1), key=lambda branch: abs(math.remainder(
-            _rocker_angle(joint2, l2, branch, theta) - psi, 2 * math.pi)))
-        joint5 = _point(rocker, 1.0, _rocker_angle(joint2, l2, branch_rocker, theta) + math.pi / 3)
-        # joint 6 on the line of joints 7 and 5: towards joint 5, or away from it when folded with l4 > l3
-        phi = _angle(_difference(joint5, output)) + (0.0 if (stretched or l3 > l4) else math.pi)
-        return {"theta": theta, "branch_rocker": branch_rocker, "branch_output": 0, "phi": phi}
     else:
         raise MechanismError(f"watt-six-bar: condition must be N1, N2, D1 or D2, got {condition!r}")
     # Assemble θ on each branch and keep the one that has the alignment found above.
@@ -359,9 +332,8 @@ ENTRIES = (
               "eq41_joints_4_6_constant_branch": {**EQUAL_OUTPUT_AND_COUPLER, "theta": 1.0,
                                                   "branch_rocker": 1, "branch_output": -1},
               # ... and where it crosses the parallelogram branch (ψ = 0: joints 7, 4, 5 aligned).
-              # (φ given: l3 and l4 are stretched there, a fold of eq. 23, where the arccosine is exact to √ε only)
               "eq41_joints_4_6_branch_crossing": {
-                  **EQUAL_OUTPUT_AND_COUPLER, "branch_rocker": 1, "branch_output": 0, "phi": math.pi / 3,
+                  **EQUAL_OUTPUT_AND_COUPLER, "branch_rocker": 1, "branch_output": 1,
                   "theta": watt_input_for_rocker(0.0, l1=DEFAULT_DESIGN["l1"], l2=DEFAULT_DESIGN["l2"])},
           }),
 )
