@@ -38,11 +38,12 @@ that agree to rounding.
 from __future__ import annotations
 
 import json
+import numbers
 from dataclasses import dataclass, field
 
 import numpy as np
 
-from manifold import DEFAULT_ATOL, DEFAULT_RTOL, implicit
+from manifold import DEFAULT_ATOL, DEFAULT_RTOL, check_rtol, implicit
 from mechanisms import CLOSURE_TOLERANCE, ConfigurationError, Mechanism, closure_and_jacobian
 from mechanisms.mechanism import dense_memory_estimate
 
@@ -244,13 +245,14 @@ def classify_many(mechanism, points, survey=None, rtol=DEFAULT_RTOL, length_scal
     """
     if not isinstance(mechanism, Mechanism) and length_scale is not None:
         raise ValueError("length_scale applies to a Mechanism; a Model carries its own end-effector metric")
+    check_rtol(rtol)
     model = model_of(mechanism, length_scale) if isinstance(mechanism, Mechanism) else mechanism
-    points = np.asarray(points, dtype=float)
+    points = np.array(points, dtype=float)  # a copy: the result's points stay the ones classified
     size = model.manifold.ambient.point_size
     if points.ndim == 0 or points.shape[-1] != size:
         raise ValueError(f"Expected points of shape (..., {size}), got {points.shape}")
-    if chunk is not None and int(chunk) < 1:
-        raise ValueError(f"Expected a positive chunk size, got {chunk!r}")
+    if chunk is not None and (isinstance(chunk, bool) or not isinstance(chunk, numbers.Integral) or chunk < 1):
+        raise ValueError(f"Expected chunk to be a positive integer (configurations), got {chunk!r}")
     shape = points.shape[:-1]
     flat = points.reshape(-1, size)
     chunk = default_chunk(model) if chunk is None else int(chunk)

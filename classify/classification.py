@@ -31,7 +31,7 @@ from functools import cached_property
 
 import numpy as np
 
-from manifold import DEFAULT_RTOL, local_rank, numerical_rank, scaled_jacobian, tangent_basis
+from manifold import DEFAULT_RTOL, check_rtol, local_rank, numerical_rank, scaled_jacobian, tangent_basis
 from mechanisms import CLOSURE_TOLERANCE, ConfigurationError, Mechanism
 
 from .metrics import manipulability
@@ -83,6 +83,7 @@ def classify(mechanism, point, survey=None, rng=None, rtol=DEFAULT_RTOL, length_
         If `point` does not close the loops.
     """
     rng = np.random.default_rng(0) if rng is None else rng
+    check_rtol(rtol)
     if not isinstance(mechanism, Mechanism) and length_scale is not None:
         raise ValueError("length_scale applies to a Mechanism; a Model carries its own end-effector metric")
     model = model_of(mechanism, length_scale) if isinstance(mechanism, Mechanism) else mechanism

@@ -742,7 +742,18 @@ def trace_loci(mechanism, start, columns=None, ranges=None, counts=(24, 24), kin
     rng = np.random.default_rng(0) if rng is None else rng
     manifold = model.manifold
     ambient = manifold.ambient
+    from mechanisms import CLOSURE_TOLERANCE, ConfigurationError
+
+    from .report import KINDS
+
     start = np.asarray(start, dtype=float)
+    if start.shape != (ambient.point_size,) or not np.all(np.isfinite(start)) \
+            or not np.linalg.norm(manifold.constraint(start)) <= CLOSURE_TOLERANCE:
+        raise ConfigurationError(f"trace_loci: the start is not a configuration of M (shape {start.shape}; it must "
+                                 f"close the loops, |Φ| ≤ {CLOSURE_TOLERANCE:g}): project it first")
+    unknown = sorted(set(kinds) - set(KINDS)) if not isinstance(kinds, str) else [kinds]
+    if unknown:
+        raise ValueError(f"trace_loci: kinds must be a sequence of {', '.join(KINDS)}, got {unknown}")
     dof = int(ambient.dim - survey.constraint_rank)
     if dof not in (1, 2, 3):
         raise ValueError(f"loci are traced for 1-, 2- and 3-dof mechanisms; this one has {dof} dof")

@@ -19,7 +19,8 @@ _SOURCES = {
     **dict.fromkeys(("ImplicitManifold", "constraint_curvature", "hessian_form", "jacobian_rank", "normal_basis",
                      "project", "project_many", "residual", "scaled_jacobian", "sparse_tangent_basis",
                      "tangent_basis"), ".implicit"),
-    **dict.fromkeys(("DEFAULT_ATOL", "DEFAULT_RTOL", "RankDecision", "numerical_rank", "rank_of_values"), ".rank"),
+    **dict.fromkeys(("DEFAULT_ATOL", "DEFAULT_RTOL", "RankDecision", "numerical_rank", "rank_of_values",
+                      "check_rtol"), ".rank"),
     **dict.fromkeys(("LocalRank", "largest_rank", "local_rank", "sample_manifold"), ".sampling"),
 }
 

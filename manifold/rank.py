@@ -29,7 +29,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["DEFAULT_RTOL", "DEFAULT_ATOL", "RankDecision", "numerical_rank", "rank_of_values"]
+__all__ = ["DEFAULT_RTOL", "DEFAULT_ATOL", "RankDecision", "numerical_rank", "rank_of_values", "check_rtol"]
 
 #: default relative cut, ``σ > rtol · scale``
 DEFAULT_RTOL = 1e-6
@@ -106,6 +106,13 @@ def numerical_rank(matrix, rtol=DEFAULT_RTOL, atol=DEFAULT_ATOL, scale=None):
     return rank_of_values(np.linalg.svd(matrix, compute_uv=False), rtol=rtol, atol=atol, scale=scale)
 
 
+def check_rtol(rtol):
+    """ValueError unless `rtol` is a relative cut: a number in (0, 1) (NaN, 0 or 1 and above make every rank
+    decision meaningless: with NaN every rank was 0 and a singular configuration came out regular)."""
+    if isinstance(rtol, bool) or not (isinstance(rtol, (int, float, np.floating, np.integer)) and 0 < rtol < 1):
+        raise ValueError(f"Expected rtol to be a relative cut in (0, 1), got {rtol!r}")
+
+
 def rank_of_values(singular_values, rtol=DEFAULT_RTOL, atol=DEFAULT_ATOL, scale=None):
     """The decision of :func:`numerical_rank` from singular values already computed.
 
@@ -130,6 +137,7 @@ def rank_of_values(singular_values, rtol=DEFAULT_RTOL, atol=DEFAULT_ATOL, scale=
     >>> rank_of_values([1e-12, 1.0, 0.5]).rank
     2
     """
+    check_rtol(rtol)
     values = np.sort(np.asarray(singular_values, dtype=float).ravel())[::-1]
     reference = (values[0] if len(values) else 0.0) if scale is None else float(scale)
     tolerance = max(rtol * reference, atol)

@@ -236,8 +236,9 @@ class Mechanism:
         for points in carried.values():
             if points:
                 extent = max(extent, float(np.max(np.abs(points))))
-            if len(points) > 1:
-                spread = max(spread, _diameter(np.asarray(points, dtype=float)))
+        for points in carried.values():
+            if len(points) > 1 and extent > 0:  # distances in units of the extent: no squares underflow to 0
+                spread = max(spread, extent * _diameter(np.asarray(points, dtype=float) / extent))
         return spread, extent
 
     def _check_scale(self):

@@ -74,6 +74,15 @@ def rehome(mechanism, point):
     -------
     Mechanism
     """
+    from .configuration import CLOSURE_TOLERANCE
+    from .kinematics import closes
+
+    point = np.asarray(point, dtype=float)
+    if point.ndim != 1:
+        raise ValueError(f"rehome: expected one configuration (a 1-D point), got shape {point.shape}")
+    if not bool(closes(mechanism, point, CLOSURE_TOLERANCE)):
+        raise ValueError("rehome: the point does not close the loops (a configuration of M is needed; project it "
+                         "first)")
     poses = {link: link_pose(mechanism, link, point) for link in mechanism.links}
     return _moved(mechanism, poses.__getitem__, poses.__getitem__)
 
@@ -88,6 +97,17 @@ def move_base(mechanism, pose):
         A homogeneous matrix of the mechanism's group (SE(2), SO(3) or SE(3)).
     """
     pose = np.asarray(pose, dtype=float)
+    size = groups.MATRIX_SIZE[mechanism.space]
+    if pose.shape != (size, size) or not np.all(np.isfinite(pose)):
+        raise ValueError(f"move_base: expected a finite {size}×{size} matrix for a {mechanism.space} mechanism, "
+                         f"got shape {pose.shape}")
+    rotation = pose[:3, :3] if mechanism.space != "planar" else pose[:2, :2]
+    homogeneous = mechanism.space != "spherical"
+    if (not np.allclose(rotation.T @ rotation, np.eye(len(rotation)), atol=1e-9)
+            or np.linalg.det(rotation) < 0
+            or (homogeneous and not np.allclose(pose[-1], np.eye(size)[-1], atol=0))):
+        raise ValueError("move_base: expected a rigid motion (an orthonormal rotation of determinant 1"
+                         + (", bottom row 0 … 0 1)" if homogeneous else ")"))
     return _moved(mechanism, lambda link: pose, lambda link: pose)
 
 
@@ -96,6 +116,8 @@ def flip_axis(mechanism, name):
 
     The joint value changes sign; every other coordinate is unchanged.
     """
+    if name not in {joint.name for joint in mechanism.joints}:
+        raise ValueError(f"flip_axis: {mechanism.name!r} has no joint {name!r}")
     joints = []
     for joint in mechanism.joints:
         if joint.name == name:
