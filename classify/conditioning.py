@@ -349,7 +349,7 @@ def _constraint_rank(scaled):
     """The largest numerical rank of DΦ·diag(s) over the stack (rtol 1e-9 against σ₁)."""
     from .metrics import singular_values
 
-    if 0 in scaled.shape[-2:]:  # no loop (a serial chain, a tree): DΦ has no rows
+    if scaled.size == 0:  # no loop (a serial chain, a tree: DΦ has no rows), or no configuration
         return 0
     values = singular_values(scaled.reshape((-1,) + scaled.shape[-2:]))
     return int(np.max(np.count_nonzero(values > 1e-9 * values[:, :1], axis=1)))

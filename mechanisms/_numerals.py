@@ -12,11 +12,15 @@ from __future__ import annotations
 
 import re
 
-__all__ = ["decimal_number", "decimal_integer"]
+__all__ = ["decimal_number", "decimal_integer", "Underflow"]
 
 _DECIMAL = re.compile(r"[+-]?(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][+-]?\d+)?", re.ASCII)
 _WORD = re.compile(r"[+-]?(?:inf|infinity|nan)", re.ASCII | re.IGNORECASE)
 _INTEGER = re.compile(r"[+-]?\d+", re.ASCII)
+
+
+class Underflow(ValueError):
+    """A nonzero number written below the smallest float (``float`` would read it as 0)."""
 
 
 def decimal_number(text):
@@ -35,7 +39,7 @@ def decimal_number(text):
         raise ValueError(f"not a number in decimal notation: {text!r}")
     value = float(stripped)
     if value == 0.0 and re.search(r"[1-9]", re.split(r"[eE]", stripped)[0]):
-        raise ValueError(f"{stripped} is nonzero but below the smallest float (it would read as 0)")
+        raise Underflow(f"{stripped} is nonzero but below the smallest float (it would read as 0)")
     return value
 
 

@@ -319,7 +319,7 @@ def _diagnosis(text):
                 value = part.get(attribute)
                 reason = None if value is None else _vector_fault(value)
                 if reason is not None:
-                    return f"{label}: <{part.tag} {attribute}=\"{value[:40]}\">: {reason}"
+                    return f"{label}: <{part.tag} {attribute}={value[:40]!r}>: {reason}"
     return None
 
 
@@ -330,13 +330,15 @@ _VECTORS = {"origin": ("xyz", "rpy"), "axis": ("xyz",)}
 def _vector_fault(text):
     """What is wrong with `text` as three numbers separated by spaces, or None (the words inf and nan pass:
     they are refused later, naming the joint), beyond ±COORDINATE_LIMIT included (as in a mechanism file)."""
-    from ._numerals import decimal_number
+    from ._numerals import Underflow, decimal_number
     from .joints import COORDINATE_LIMIT
 
     parts = text.split()
     try:
         values = [decimal_number(item) for item in parts]
-    except ValueError:
+    except ValueError as error:
+        if isinstance(error, Underflow):
+            return str(error)
         values = None
     if values is None or len(values) != 3:
         return "expected three numbers"

@@ -14,7 +14,8 @@ from ..text import printable
 __all__ = [
     "MECHANISM_SUFFIXES", "COUNT_LIMIT", "SEED_LIMIT", "LENGTH_SCALE_RATIO", "PATH_STEP_RANGE",
     "InputError", "Parser", "entry_options", "common_options", "displacements",
-    "check_length_scale", "check_count", "check_path_step", "is_entry", "path_exists", "entry_values",
+    "check_length_scale", "check_count", "check_path_step", "integer", "number", "is_entry", "path_exists",
+    "entry_values",
     "source", "joint_list", "finite", "dumps", "write_output", "IMPORT_SUFFIXES", "closures_option", "import_file",
 ]
 
@@ -82,10 +83,33 @@ def import_file(path, closures=None):
     return read_mjcf(path)
 
 
+def integer(text):
+    """argparse type: an integer in ASCII decimal notation (``int`` would also read '٣' as 3 and '1_0' as 10)."""
+    from mechanisms._numerals import decimal_integer
+
+    try:
+        return decimal_integer(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expected an integer, got {text[:40]!r}") from None
+
+
+def number(text):
+    """argparse type: a number in ASCII decimal notation (:mod:`mechanisms._numerals`)."""
+    from mechanisms._numerals import Underflow, decimal_number
+
+    try:
+        return decimal_number(text)
+    except ValueError as error:
+        reason = str(error) if isinstance(error, Underflow) else f"expected a number, got {text[:40]!r}"
+        raise argparse.ArgumentTypeError(reason) from None
+
+
 def seed_type(text):
     """``--seed``: an integer from 0 to :data:`SEED_LIMIT`."""
+    from mechanisms._numerals import decimal_integer
+
     try:
-        value = int(text)
+        value = decimal_integer(text)
     except ValueError:
         raise argparse.ArgumentTypeError(f"expected an integer ≥ 0, got {text[:40]!r}") from None
     if not 0 <= value <= SEED_LIMIT:
@@ -96,10 +120,7 @@ def seed_type(text):
 
 def _length_scale(text):
     """``--length-scale``: a positive finite number (its range is checked against the mechanism)."""
-    try:
-        value = float(text)
-    except ValueError:
-        raise argparse.ArgumentTypeError(f"expected a positive number, got {text[:40]!r}") from None
+    value = number(text)
     if not (math.isfinite(value) and value > 0):
         raise argparse.ArgumentTypeError(f"expected a positive finite number, got {text[:40]}")
     return value

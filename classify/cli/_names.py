@@ -80,12 +80,12 @@ def coordinate_number(text, where, empty="nothing"):
     InputError
         One line: not a number, not finite, or out of range.
     """
-    from mechanisms._numerals import decimal_number
+    from mechanisms._numerals import Underflow, decimal_number
 
     try:
         value = decimal_number(text)
     except ValueError as error:
-        if "below the smallest float" in str(error):
+        if isinstance(error, Underflow):
             raise InputError(f"{where}: {shown(text.strip())} is below the smallest float (it would read as 0)") \
                 from None
         raise InputError(f"{where}: expected a number, got {shown(text) if text.strip() else empty}") from None

@@ -26,7 +26,7 @@ from ..progress import show_progress
 from ..text import printable
 from ._common import (
     InputError, check_length_scale, closures_option, common_options, displacements, dumps, entry_options,
-    entry_values, is_entry, source, survey_option,
+    entry_values, integer, is_entry, source, survey_option,
 )
 
 __all__ = ["add_parser", "run", "describe_source"]
@@ -82,7 +82,7 @@ def add_parser(commands):
     parser.add_argument("--assemble", action="store_true",
                         help="hold the --at joints (and the other actuated joints) at exactly those values and "
                              "solve the loops for the others")
-    parser.add_argument("--branch", type=int, default=None, metavar="N",
+    parser.add_argument("--branch", type=integer, default=None, metavar="N",
                         help="with --assemble: the N-th assembly at those inputs, by distance from home "
                              "(default: the one reached from home)")
     survey_option(parser)

@@ -10,7 +10,7 @@ from dataclasses import replace
 from ..text import printable
 from ._common import (
     InputError, check_count, check_length_scale, check_path_step, closures_option, common_options, displacements,
-    dumps, entry_options, is_entry, joint_list, source,
+    dumps, entry_options, integer, is_entry, joint_list, number, source,
 )
 
 __all__ = ["add_parser", "run"]
@@ -38,14 +38,14 @@ def add_parser(commands):
     parser.add_argument("--relation", default=None, metavar="NAME",
                         help="use the paper's F of a catalogue entry (e.g. eq9 for slider-crank) instead of the "
                              "matrices derived from the mechanism")
-    parser.add_argument("--samples", type=int, default=0, metavar="N",
+    parser.add_argument("--samples", type=integer, default=0, metavar="N",
                         help="also compare N configurations sampled over the assembly branches (default 0)")
-    parser.add_argument("--path", type=int, default=0, metavar="N",
+    parser.add_argument("--path", type=integer, default=0, metavar="N",
                         help="also compare up to N configurations each way along a curve of M through the home, "
                              "and the actuator and end-effector singularities the curve crosses")
-    parser.add_argument("--path-step", type=float, default=None, metavar="H",
-                        help="distance between configurations along the path (joint-coordinate units, "
-                             "default 0.05)")
+    parser.add_argument("--path-step", type=number, default=None, metavar="H",
+                        help="distance between configurations along the --path (joint-coordinate units, "
+                             f"default {DEFAULT_PATH_STEP})")
     parser.add_argument("--format", choices=("json", "text"), default="text")
     common_options(parser)
     return parser

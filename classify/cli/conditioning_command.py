@@ -88,8 +88,10 @@ def add_parser(commands):
 def _length_option(text):
     if text == "auto":
         return None
+    from mechanisms._numerals import decimal_number
+
     try:
-        value = float(text)
+        value = decimal_number(text)
     except ValueError:
         raise InputError(f"--length: expected a positive number or 'auto', got {text[:40]!r}") from None
     if not (math.isfinite(value) and value > 0):

@@ -79,20 +79,24 @@ def write_figure(figure, path, option="--out"):
 
 
 def check_title(text):
-    """Refuse a ``--title`` matplotlib cannot draw: control characters other than newline and tab (a glyph it
-    lacks), or mathtext (between dollar signs) it cannot parse, checked on an empty figure before any work."""
+    """Refuse a ``--title`` matplotlib cannot draw: control characters other than newline (a glyph it lacks, a
+    tab included), or mathtext (between dollar signs) it cannot parse, checked on an empty figure before any
+    work."""
     import unicodedata
+    import warnings
 
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
-    if any(unicodedata.category(character) == "Cc" and character not in "\n\t" for character in text):
+    if any(unicodedata.category(character) == "Cc" and character != "\n" for character in text):
         raise InputError(f"--title: control characters are not drawn; got {printable(text[:40])}")
     figure = Figure()
     FigureCanvasAgg(figure)
     figure.suptitle(text)
     try:
-        figure.canvas.draw()
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")  # a missing glyph is said by savefig, if at all, not twice
+            figure.canvas.draw()
     except ValueError as error:
         reason = " ".join(str(error).split())[:120]
         raise InputError(f"--title: matplotlib cannot typeset the mathtext between its dollar signs ({reason}); "

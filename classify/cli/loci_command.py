@@ -52,7 +52,7 @@ the text or JSON is printed as well.
 from __future__ import annotations
 
 from ..text import drawn, printable
-from ._common import InputError, common_options, entry_options, source
+from ._common import InputError, common_options, entry_options, integer, source
 
 __all__ = ["add_parser", "run", "DEFAULT_COUNT"]
 
@@ -75,7 +75,7 @@ def add_parser(commands):
     parser.add_argument("--section", default=None, metavar="NAME=a:b:n",
                         help="3 dof: the coordinate held in each section and its values (default the first "
                              "actuated coordinate at 4 values around a turn)")
-    parser.add_argument("--branches", type=int, default=1, metavar="N",
+    parser.add_argument("--branches", type=integer, default=1, metavar="N",
                         help="2 dof: assemble the grid on up to N assembly branches (the start's, then others found "
                              "by solving the loops from random values at a few grid points; default 1)")
     parser.add_argument("--out", default=None, metavar="FIG", help="write the C-space map with the loci (.png, "

@@ -26,7 +26,7 @@ from mechanisms import catalogue
 from ..text import printable
 from ._common import (
     IMPORT_SUFFIXES, MECHANISM_SUFFIXES, InputError, check_length_scale, closures_option, common_options, dumps,
-    import_file, is_entry, path_exists, write_output,
+    import_file, integer, is_entry, path_exists, write_output,
 )
 
 __all__ = ["add_parser", "run", "run_tasks", "report_table", "table_cells", "report_summary", "ReportRow",
@@ -173,7 +173,7 @@ def add_parser(commands):
     parser.add_argument("--html", default=None, metavar="FILE",
                         help="also write the report as one self-contained HTML page, with each configuration drawn "
                              "and the singularity loci of each design of one to three dof")
-    parser.add_argument("--jobs", type=int, default=None, metavar="N",
+    parser.add_argument("--jobs", type=integer, default=None, metavar="N",
                         help="processes to run in parallel (default: the available cores; 1: none)")
     parser.add_argument("--format", choices=("json", "text"), default="text")
     closures_option(parser)

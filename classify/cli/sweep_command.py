@@ -17,7 +17,7 @@ from mechanisms import MechanismError, catalogue
 
 from ..progress import progress_bar
 from ..text import printable
-from ._common import COUNT_LIMIT, InputError, seed_type, dumps, finite, write_output
+from ._common import COUNT_LIMIT, InputError, dumps, finite, integer, seed_type, write_output
 
 __all__ = ["add_parser", "run", "SCHEDULER_TIMEOUT", "WORKER_LIMIT", "OUTPUT_SUFFIXES", "read_table"]
 
@@ -44,17 +44,17 @@ def add_parser(commands):
     parser.add_argument("--param", action="append", default=[], metavar="K=a:b:n|K=V",
                         help="a swept parameter (n values from a to b) or a fixed one (repeatable); the first "
                              "swept parameter varies slowest")
-    parser.add_argument("--samples", type=int, default=DEFAULT_SAMPLES, metavar="N",
+    parser.add_argument("--samples", type=integer, default=DEFAULT_SAMPLES, metavar="N",
                         help=f"configurations sampled per design (default {DEFAULT_SAMPLES})")
     parser.add_argument("--seed", type=seed_type, default=0,
                         help="seed of the sampling, an integer ≥ 0 (default 0); design i uses the i-th child of it")
     parser.add_argument("--scheduler", default=None, metavar="ADDRESS",
                         help="address of a running Dask scheduler (e.g. tcp://host:8786), or 'serial' to run in "
                              "this process (default: a local cluster of --workers processes)")
-    parser.add_argument("--workers", type=int, default=None, metavar="W",
+    parser.add_argument("--workers", type=integer, default=None, metavar="W",
                         help=f"worker processes of the local cluster (default {DEFAULT_WORKERS}; 0 runs in this "
                              f"process)")
-    parser.add_argument("--chunk", type=int, default=None, metavar="D",
+    parser.add_argument("--chunk", type=integer, default=None, metavar="D",
                         help="designs per task (default: about 32 tasks per worker, at most 16 designs each)")
     parser.add_argument("--out", default=None, metavar="FILE",
                         help="write one row per design: .csv (flat columns), .json (the grid and the rows) or "

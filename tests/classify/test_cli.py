@@ -385,3 +385,15 @@ def test_the_source_line_says_whether_the_parameters_are_the_defaults(capsys):
     assert "crank = 3" in out
     status, _, err = run(["catalog", "five-bar", "--param", "base=5", "--param", "base=6"], capsys)
     assert status == 2 and "--param base: given twice" in err and err.count("\n") == 1
+
+
+@pytest.mark.parametrize("arguments, fragment", [
+    (["report", "--jobs", "\u0663"], "argument --jobs: expected an integer, got '\u0663'"),
+    (["classify", "five-bar", "--seed", "1_0"], "argument --seed: expected an integer ≥ 0, got '1_0'"),
+    (["compare", "five-bar", "--path", "1", "--path-step", "1e-400"], "below the smallest float"),
+    (["loci", "five-bar", "--branches", "2.0"], "argument --branches: expected an integer"),
+])
+def test_numeric_options_are_read_as_written(arguments, fragment, capsys):
+    """int() and float() read other scripts' digits and underscores, and 1e-400 as 0."""
+    status, out, err = run(arguments, capsys)
+    assert status == 2 and out == "" and fragment in err and err.count("\n") == 1

@@ -56,7 +56,8 @@ def test_a_title_matplotlib_cannot_draw_is_refused_before_any_work(tmp_path):
     """Mathtext it cannot parse ended in an internal error; a control character in a glyph warning on stderr."""
     path = tmp_path / "x.png"
     for title, message in (("$$", "--title: matplotlib cannot typeset"), ("$x^$", "--title: matplotlib cannot"),
-                           ("a\x1bb", "--title: control characters are not drawn; got a\\x1bb")):
+                           ("a\x1bb", "--title: control characters are not drawn; got a\\x1bb"),
+                           ("a\tb", "--title: control characters are not drawn; got a\\tb")):
         status, out, err = run(["draw", "five-bar", "--title", title, "--out", str(path)])
         assert status == 2 and out == "" and err.count("\n") == 1 and message in err, err
         assert not path.exists()

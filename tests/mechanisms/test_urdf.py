@@ -218,13 +218,15 @@ def test_closures_types_default_to_6d_and_read_case_insensitively():
     (lambda text: text.replace('type="revolute"', 'type="planar"', 1), "'planar' joint is not supported"),
     # the parser's own words named no element: 'could not broadcast…', 'could not convert string to float', 'name'
     (lambda text: text.replace('<origin xyz="0 0 0" rpy="0 -0 0" />', '<origin xyz="0.1 0.15" />', 1),
-     "<link> 'built': <origin xyz=\"0.1 0.15\">: expected three numbers"),
+     "<link> 'built': <origin xyz='0.1 0.15'>: expected three numbers"),
     (lambda text: text.replace('<axis xyz="0 0 1" />', '<axis xyz="a b c" />', 1),
-     "<joint> '[^']+': <axis xyz=\"a b c\">: expected three numbers"),
+     "<joint> '[^']+': <axis xyz='a b c'>: expected three numbers"),
     (lambda text: text.replace('<robot name="onshape">', '<robot>', 1), "<robot>: attribute 'name' is missing"),
     # overflow warnings, then the closures file blamed for loops that could not close
     (lambda text: text.replace('<origin xyz="0 0 0" rpy="0 -0 0" />', '<origin xyz="1e300 0 0" />', 1),
-     "<origin xyz=\"1e300 0 0\">: a number beyond ±1e\\+12"),
+     "<origin xyz='1e300 0 0'>: a number beyond ±1e\\+12"),
+    (lambda text: text.replace('<origin xyz="0 0 0" rpy="0 -0 0" />', '<origin xyz="0&#10;x 0" />', 1),
+     "<origin xyz='0\\\\nx 0'>: expected three numbers"),  # one line: the newline escaped
 ])
 def test_malformed_urdf_is_one_line(tmp_path, edit, message):
     urdf = write(tmp_path, "robot.urdf", edit(FIVE_BAR_URDF))
