@@ -20,6 +20,8 @@ Assembly and building are those of :func:`mechanisms.urdf.import_tree`.
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 
 from .closures import Closures
@@ -147,7 +149,8 @@ def read_mjcf(path):
     except ImportError:
         raise MechanismError(f"{path}: reading MJCF needs the mujoco package: pip install closedchain[mjcf]") from None
     previous = mujoco.get_mju_user_warning()
-    mujoco.set_mju_user_warning(lambda message: None)  # MuJoCo prints its warnings (a NaN…) on stdout: ours follow
+    warned = []  # MuJoCo prints its warnings on stdout: kept here, for the notes (a NaN… is refused below)
+    mujoco.set_mju_user_warning(lambda message: warned.append(" ".join(str(message).split())))
     try:
         model = mujoco.MjModel.from_xml_string(text)
     except Exception as error:  # MuJoCo's compiler errors (ValueError...), one line
@@ -157,26 +160,37 @@ def read_mjcf(path):
         mujoco.set_mju_user_warning(previous)
     _check_finite(model, path)
     tree, closures = tree_from_mjcf(model, str(path))
-    return import_tree(tree, closures, mechanism_name(path), str(path),
-                       description=f"imported from the MJCF {path.name}")
+    imported = import_tree(tree, closures, mechanism_name(path), str(path),
+                           description=f"imported from the MJCF {path.name}")
+    return replace(imported, notes=imported.notes + tuple(f"MuJoCo warned: {message}" for message in warned))
 
 
-#: the compiled model's arrays the import reads, with what they hold (for the message)
-_GEOMETRY = {"body_pos": "a body's pos", "body_quat": "a body's quat (or euler, axisangle…)",
-             "jnt_pos": "a joint's pos", "jnt_axis": "a joint's axis", "site_pos": "a site's pos",
-             "site_quat": "a site's orientation", "eq_data": "an equality's data (a connect's anchor)"}
+#: the compiled model's arrays the import reads: (object type, what they hold, columns of positions or None)
+_GEOMETRY = {"body_pos": ("BODY", "pos", slice(None)), "body_quat": ("BODY", "orientation", None),
+             "jnt_pos": ("JOINT", "pos", slice(None)), "jnt_axis": ("JOINT", "axis", None),
+             "site_pos": ("SITE", "pos", slice(None)), "site_quat": ("SITE", "orientation", None),
+             "eq_data": ("EQUALITY", "anchor or relpose", slice(0, 6))}
 
 
 def _check_finite(model, path):
-    """MechanismError naming the first non-finite geometry (MuJoCo accepts NaN and inf, with a warning) or the
-    first position beyond ±COORDINATE_LIMIT (as in a mechanism file)."""
+    """MechanismError naming the element of the first non-finite geometry (MuJoCo accepts NaN and inf, with a
+    warning) or of the first position beyond ±COORDINATE_LIMIT (as in a mechanism file)."""
+    import mujoco
     import numpy as np
 
     from .joints import COORDINATE_LIMIT
 
-    for field, meaning in _GEOMETRY.items():
+    for field, (kind, meaning, positions) in _GEOMETRY.items():
         values = np.asarray(getattr(model, field), dtype=float)
-        if values.size and not np.all(np.isfinite(values)):
-            raise MechanismError(f"{path}: MJCF: {meaning} is not finite (NaN or infinity)")
-        if field.endswith("_pos") and values.size and np.max(np.abs(values)) > COORDINATE_LIMIT:
-            raise MechanismError(f"{path}: MJCF: {meaning} is beyond ±{COORDINATE_LIMIT:g} (as in a mechanism file)")
+        if not values.size:
+            continue
+        values = values.reshape(len(values), -1)  # one row per element
+        bad = ~np.all(np.isfinite(values), axis=1)
+        if positions is not None:
+            bad |= np.any(np.abs(np.nan_to_num(values[:, positions])) > COORDINATE_LIMIT, axis=1)
+        if np.any(bad):
+            index = int(np.flatnonzero(bad)[0])
+            element = mujoco.mj_id2name(model, getattr(mujoco.mjtObj, f"mjOBJ_{kind}"), index) or f"number {index}"
+            what = ("is not finite (NaN or infinity)" if not np.all(np.isfinite(values[index]))
+                    else f"is beyond ±{COORDINATE_LIMIT:g} (as in a mechanism file)")
+            raise MechanismError(f"{path}: MJCF: {kind.lower()} {element!r}: its {meaning} {what}")
