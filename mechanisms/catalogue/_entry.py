@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import inspect
 import math
+import numbers
 from dataclasses import dataclass, field
 from typing import Callable, Mapping
 
@@ -132,11 +133,34 @@ class Entry:
         if unknown:
             raise MechanismError(f"{self.name}: unknown parameter {unknown[0]!r} "
                                  f"(parameters: {', '.join(self.parameters)})")
+        for name, value in parameters.items():
+            _check_type(self.name, name, value, self.parameters[name])
         values = dict(self.parameters)
         if configuration is not None:
             values.update(self.configurations[configuration])
         values.update(parameters)
         return values
+
+
+def _check_type(entry, name, value, default):
+    """MechanismError unless `value` has the type of the parameter's default (a bool, an integer, a real number,
+    text): a builder given the wrong type failed deep inside (a TypeError, an AttributeError) or misread it."""
+    if isinstance(default, bool):
+        expected, ok = "true or false (a bool)", isinstance(value, (bool, np.bool_))
+    elif isinstance(default, numbers.Integral):
+        expected = "an integer"
+        ok = isinstance(value, numbers.Integral) and not isinstance(value, (bool, np.bool_))
+    elif is_number(default):
+        expected = "a number"
+        ok = isinstance(value, numbers.Real) and not isinstance(value, (bool, np.bool_))
+    elif isinstance(default, str):
+        expected, ok = "text", isinstance(value, str)
+    else:
+        return
+    if not ok:
+        shown = repr(value) if len(repr(value)) <= 40 else f"a {type(value).__name__}"
+        raise MechanismError(f"{entry}: parameter {name!r}: expected {expected}, as its default {default!r}, "
+                             f"got {shown}")
 
 
 def _differs(value, default):

@@ -90,3 +90,17 @@ def test_a_geometry_too_small_is_refused_at_any_scale(five_bar, factor):
     mechanism, _ = five_bar
     with pytest.raises(MechanismError, match="the geometry is too small"):
         scale_lengths(mechanism, factor)
+
+
+@pytest.mark.parametrize("name, parameters, expected", [
+    ("slider-crank", {"crank": "1"}, "'crank': expected a number"),        # a TypeError inside the builder
+    ("five-bar", {"actuated": 3}, "'actuated': expected text"),            # an AttributeError ('split')
+    ("eclipse", {"x": "1"}, "'x': expected a number"),                     # a UFuncTypeError
+    ("slider-crank", {"end_effector": "yes"}, "'end_effector': expected true or false"),  # read as true
+    ("five-bar", {"assembly": 1.5}, "'assembly': expected an integer"),
+    ("five-bar", {"base": True}, "'base': expected a number"),
+])
+def test_a_catalogue_parameter_of_the_wrong_type_is_refused_naming_it(name, parameters, expected):
+    with pytest.raises(MechanismError, match=expected):
+        catalogue.entry(name).mechanism(**parameters)
+    assert catalogue.entry("five-bar").mechanism(base=np.float64(6.0), assembly=np.int64(1)).joints
