@@ -183,6 +183,18 @@ def hessian_form(manifold, point, left, right=None):
 
 # --------------------------------------------------------------------------- projection
 
+def _one_point(manifold, point, caller):
+    """`point` as a float array of shape [point_size] with finite coordinates, or a ValueError naming `caller`
+    (NaN ended in LAPACK's 'SVD did not converge'; a stack in a matrix-shape error of its own)."""
+    point = np.array(point, dtype=float)
+    size = manifold.ambient.point_size
+    if point.shape != (size,):
+        raise ValueError(f"{caller}: expected one point of shape ({size},), got shape {point.shape}")
+    if not np.all(np.isfinite(point)):
+        raise ValueError(f"{caller}: the point has non-finite coordinates (NaN or infinity)")
+    return point
+
+
 def project(manifold, point, tolerance=1e-12, max_iterations=60, max_step=None):
     """Gauss-Newton projection of one point onto M.
 
@@ -218,7 +230,7 @@ def project(manifold, point, tolerance=1e-12, max_iterations=60, max_step=None):
         block stuck at a critical point of ``|Φ|²`` that is no zero, as a
         random start in a product of many loops nearly always has one).
     """
-    point = np.array(point, dtype=float)
+    point = _one_point(manifold, point, "project")
     ambient = manifold.ambient
     scales = ambient.tangent_scales
     blocked = _blocked(manifold)
@@ -345,6 +357,7 @@ def tangent_basis(manifold, point, rtol=DEFAULT_RTOL, atol=DEFAULT_ATOL):
     decision : RankDecision
         The rank of DΦ(point)·diag(s).
     """
+    point = _one_point(manifold, point, "tangent_basis")
     scales = manifold.ambient.tangent_scales
     if _blocked(manifold):
         decomposition, decision = _blocked_decision(manifold, point, rtol, atol)

@@ -104,3 +104,18 @@ def test_a_catalogue_parameter_of_the_wrong_type_is_refused_naming_it(name, para
     with pytest.raises(MechanismError, match=expected):
         catalogue.entry(name).mechanism(**parameters)
     assert catalogue.entry("five-bar").mechanism(base=np.float64(6.0), assembly=np.int64(1)).joints
+
+
+def test_projection_and_tangent_basis_refuse_a_point_that_is_not_one_finite_point(five_bar):
+    """NaN ended in LAPACK's 'SVD did not converge' (and LAPACK's own message on stderr); a stack in
+    '3-dimensional array given'."""
+    from classify import model_of
+    from manifold import project, tangent_basis
+
+    mechanism, point = five_bar
+    manifold = model_of(mechanism).manifold
+    for function in (project, tangent_basis):
+        with pytest.raises(ValueError, match="non-finite coordinates"):
+            function(manifold, point * np.nan)
+        with pytest.raises(ValueError, match="expected one point of shape"):
+            function(manifold, np.stack([point, point]))
