@@ -27,6 +27,10 @@ import numpy as np
 
 from mechanisms import actuator_jacobian, end_effector_dimension, kinematics_of
 
+#: how far from the characteristic length an end-effector length scale L may be (beyond, L² makes the metric's
+#: rotation and translation parts 1e12 apart and the proper values say nothing; 1e300 overflowed)
+LENGTH_SCALE_RATIO = 1e6
+
 __all__ = [
     "actuator_metric", "weighted_actuator_jacobian", "end_effector_metric",
     "metric_root", "pullback_metric", "Manipulability", "manipulability",
@@ -103,6 +107,9 @@ def end_effector_metric(mechanism, length_scale=None):
         scale = compiled.length if length_scale is None else float(length_scale)
         if not np.isfinite(scale) or scale <= 0:
             raise ValueError(f"Expected a positive finite length scale, got {length_scale!r}")
+        if not compiled.length / LENGTH_SCALE_RATIO <= scale <= compiled.length * LENGTH_SCALE_RATIO:
+            raise ValueError(f"Expected a length scale within a factor {LENGTH_SCALE_RATIO:g} of the mechanism's "
+                             f"characteristic length {compiled.length:.3g} (L² weighs the rotations), got {scale:g}")
         if compiled.output == "tool":
             metric[3:, 3:] *= scale ** 2
         else:

@@ -101,6 +101,8 @@ def numerical_rank(matrix, rtol=DEFAULT_RTOL, atol=DEFAULT_ATOL, scale=None):
     matrix = np.asarray(matrix, dtype=float)
     if matrix.ndim != 2:
         raise ValueError(f"Expected a matrix of shape (rows, columns), got shape {matrix.shape}")
+    if not np.all(np.isfinite(matrix)):
+        raise ValueError("Expected a matrix of finite numbers (NaN or infinity has no rank)")
     if matrix.size == 0:
         return RankDecision(0, np.zeros(0), float(atol))
     return rank_of_values(np.linalg.svd(matrix, compute_uv=False), rtol=rtol, atol=atol, scale=scale)

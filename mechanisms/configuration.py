@@ -8,6 +8,7 @@ unless it is projected onto the C-space.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
 
 import numpy as np
@@ -139,6 +140,9 @@ def configuration(mechanism, displacements=None, project_onto=False, where="disp
     ConfigurationError
         If the configuration does not close and `project_onto` is false, or projection fails.
     """
+    if displacements is not None and not isinstance(displacements, Mapping):
+        raise ConfigurationError(f"{where}: expected a mapping of joint names to displacements, got "
+                                 f"{type(displacements).__name__}")
     requested = from_displacements(mechanism, displacements or {}, where)
     if bool(closes(mechanism, requested, CLOSURE_TOLERANCE)):
         return Projected(requested, requested, 0.0)

@@ -149,6 +149,8 @@ def scale_lengths(mechanism, factor):
     -------
     Mechanism
     """
+    if isinstance(factor, (bool, np.bool_, str)):
+        raise ValueError(f"Expected a positive finite factor, got {factor!r}")
     factor = float(factor)
     if not (np.isfinite(factor) and factor > 0):
         raise ValueError(f"Expected a positive finite factor, got {factor!r}")

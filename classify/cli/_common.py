@@ -27,7 +27,7 @@ COUNT_LIMIT = 10_000
 #: largest --seed (NumPy seeds are non-negative integers; 2⁶⁴ − 1 is plenty)
 SEED_LIMIT = 2 ** 64 - 1
 #: --length-scale within this factor of the mechanism's characteristic length, both ways
-LENGTH_SCALE_RATIO = 1e6
+LENGTH_SCALE_RATIO = 1e6  # = classify.metrics.LENGTH_SCALE_RATIO, here so that the command starts without NumPy
 #: --path-step range, in the dimensionless joint coordinates (radians; lengths over the characteristic length)
 PATH_STEP_RANGE = (1e-9, 1.0)
 

@@ -119,3 +119,25 @@ def test_projection_and_tangent_basis_refuse_a_point_that_is_not_one_finite_poin
             function(manifold, point * np.nan)
         with pytest.raises(ValueError, match="expected one point of shape"):
             function(manifold, np.stack([point, point]))
+
+
+def test_the_remaining_silent_readings_are_refused(five_bar):
+    """A length scale 1e300 overflowed in L²; configuration(m, 0) gave the home; a matrix with infinity had rank
+    0; scale_lengths read '2' as 2 and True as 1."""
+    from classify.cli._common import LENGTH_SCALE_RATIO as COMMAND_RATIO
+    from classify.metrics import LENGTH_SCALE_RATIO
+    from mechanisms import configuration
+
+    assert COMMAND_RATIO == LENGTH_SCALE_RATIO  # the command's copy (it starts without NumPy)
+    mechanism, point = five_bar
+    pose = catalogue.entry("planar-3rrr").mechanism()
+    with pytest.raises(ValueError, match="length scale within a factor 1e\\+06"):
+        classify(pose, home(pose), length_scale=1e300)
+    for displacements in (0, [], ""):
+        with pytest.raises(ConfigurationError, match="expected a mapping of joint names"):
+            configuration(mechanism, displacements)
+    with pytest.raises(ValueError, match="finite numbers"):
+        numerical_rank([[np.inf, 0.0], [0.0, 1.0]])
+    for factor in ("2", True):
+        with pytest.raises(ValueError, match="positive finite factor"):
+            scale_lengths(mechanism, factor)
