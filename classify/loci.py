@@ -981,6 +981,11 @@ def _regular_reference(model, survey, start, rng):
     raise ValueError("no configuration of M near the start where DΦ has its largest rank")
 
 
+def _whole(value):
+    """Whether `value` is an integer (not a bool, a float or text)."""
+    return isinstance(value, (int, np.integer)) and not isinstance(value, (bool, np.bool_))
+
+
 def _grid_arguments(mechanism, start, columns, ranges, counts, dof=2):
     """The grid's columns, ranges and counts with their defaults (see :func:`trace_loci`): 2 dof two axes; 3 dof
     three, the last the section coordinate."""
@@ -988,12 +993,17 @@ def _grid_arguments(mechanism, start, columns, ranges, counts, dof=2):
 
     from .displacements import displacements_of
 
+    size = len(mechanism.coordinate_names)
+    if columns is not None and not all(_whole(column) and 0 <= column < size for column in columns):
+        raise ValueError(f"a locus grid's columns are coordinate numbers from 0 to {size - 1}, got {list(columns)}")
     columns = default_columns(mechanism, dof, start) if columns is None else [int(column) for column in columns]
     if len(columns) != dof:
         axes = "two grid axes and a section" if dof == 3 else "two grid axes"
         raise ValueError(f"a {dof}-dof locus grid has {dof} coordinates ({axes}), got {len(columns)}")
     if len(set(columns)) != len(columns):
         raise ValueError(f"a locus grid names a coordinate twice: {columns}")
+    if isinstance(counts, (str, bytes)) or not all(_whole(count) for count in counts):
+        raise ValueError(f"a locus grid's counts are whole numbers, got {counts!r}")
     counts = [int(count) for count in counts]
     if dof == 3 and len(counts) == 2:
         counts.append(SECTION_COUNT)
@@ -1001,6 +1011,10 @@ def _grid_arguments(mechanism, start, columns, ranges, counts, dof=2):
         raise ValueError(f"a {dof}-dof locus grid needs {dof} counts (the grid's ≥ 2), got {counts}")
     if ranges is None:
         ranges = [None] * dof
+    if len(ranges) > dof or not all(pair is None or (len(pair) == 2 and all(np.isfinite(value) for value in pair))
+                                    for pair in ranges):
+        raise ValueError(f"a {dof}-dof locus grid has at most {dof} ranges, each None or two finite numbers (low, "
+                         f"high), got {ranges!r}")
     ranges = list(ranges) + [None] * (dof - len(ranges))
     values = displacements_of(mechanism, start[None])[0]
     scales = kinematics_of(mechanism).ambient.tangent_scales

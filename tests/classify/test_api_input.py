@@ -141,3 +141,17 @@ def test_the_remaining_silent_readings_are_refused(five_bar):
     for factor in ("2", True):
         with pytest.raises(ValueError, match="positive finite factor"):
             scale_lengths(mechanism, factor)
+
+
+@pytest.mark.parametrize("options, message", [
+    ({"columns": (0, -5)}, "columns are coordinate numbers from 0 to 4"),  # -5 wrapped round to column 0
+    ({"columns": (0, 99)}, "columns are coordinate numbers"),             # an IndexError
+    ({"counts": (2.5, 8)}, "counts are whole numbers"),                   # read as 2
+    ({"counts": ("8", "8")}, "counts are whole numbers"),
+    ({"ranges": ((0.0, np.nan), None)}, "each None or two finite numbers"),  # empty loci
+    ({"ranges": ((0, 1), (0, 1), (0, 1))}, "at most 2 ranges"),           # the third was dropped
+])
+def test_a_locus_grid_is_refused_when_it_is_not_what_it_says(five_bar, options, message):
+    mechanism, point = five_bar
+    with pytest.raises(ValueError, match=message):
+        trace_loci(mechanism, point, **{"counts": (8, 8), **options})
