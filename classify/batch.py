@@ -22,9 +22,11 @@ most 12, stacks of 64 or more) by one-sided Jacobi sweeps over the whole
 stack (:func:`classify.metrics.singular_values`), of larger wide DΦs from the
 eigenvalues of their Gram matrix where certified (:func:`_gram_values`), all
 recomputed by LAPACK wherever one lies near its cut (:func:`_certified`, so
-no decision depends on the method); the kernel bases of loops that each own as many coordinates as
-they have rows (Gough–Stewart, 3-RRR) from small solves per loop
-(:class:`ArrowStructure`), where those blocks are well conditioned.
+no decision depends on the method); the kernel bases of loops that each own
+as many coordinates as they have rows (Gough–Stewart, 3-RRR) from small
+solves per loop (:class:`ArrowStructure`), where those blocks are well
+conditioned. The stack goes in chunks of about the same memory for every
+mechanism (:func:`default_chunk`), in threads with ``workers``.
 
 What is not array work runs only where it is
 needed, through :func:`classify.classify` itself: at a configuration where DΦ
