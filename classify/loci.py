@@ -743,12 +743,12 @@ def trace_loci(mechanism, start, columns=None, ranges=None, counts=(24, 24), kin
     manifold = model.manifold
     ambient = manifold.ambient
     from mechanisms import CLOSURE_TOLERANCE, ConfigurationError
+    from mechanisms.kinematics import closes
 
     from .report import KINDS
 
     start = np.asarray(start, dtype=float)
-    if start.shape != (ambient.point_size,) or not np.all(np.isfinite(start)) \
-            or not np.linalg.norm(manifold.constraint(start)) <= CLOSURE_TOLERANCE:
+    if start.shape != (ambient.point_size,) or not bool(closes(mechanism, start, CLOSURE_TOLERANCE)):
         raise ConfigurationError(f"trace_loci: the start is not a configuration of M (shape {start.shape}; it must "
                                  f"close the loops, |Φ| ≤ {CLOSURE_TOLERANCE:g}): project it first")
     unknown = sorted(set(kinds) - set(KINDS)) if not isinstance(kinds, str) else [kinds]

@@ -29,14 +29,15 @@ def decimal_number(text):
     Raises
     ------
     ValueError
-        If `text` is not plain decimal notation, or names a nonzero number too small for a float (it would
-        read as 0).
+        If `text` is not plain decimal notation ("expected a number, got '…'", ready for a message after the
+        field's name), or (:class:`Underflow`) names a nonzero number too small for a float (it would read
+        as 0).
     """
     stripped = text.strip()
     if _WORD.fullmatch(stripped):
         return float(stripped)
     if not _DECIMAL.fullmatch(stripped):
-        raise ValueError(f"not a number in decimal notation: {text!r}")
+        raise ValueError(f"expected a number, got {text[:40]!r}")
     value = float(stripped)
     if value == 0.0 and re.search(r"[1-9]", re.split(r"[eE]", stripped)[0]):
         raise Underflow(f"{stripped} is nonzero but below the smallest float (it would read as 0)")

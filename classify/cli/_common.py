@@ -95,13 +95,12 @@ def integer(text):
 
 def number(text):
     """argparse type: a number in ASCII decimal notation (:mod:`mechanisms._numerals`)."""
-    from mechanisms._numerals import Underflow, decimal_number
+    from mechanisms._numerals import decimal_number
 
     try:
         return decimal_number(text)
     except ValueError as error:
-        reason = str(error) if isinstance(error, Underflow) else f"expected a number, got {text[:40]!r}"
-        raise argparse.ArgumentTypeError(reason) from None
+        raise argparse.ArgumentTypeError(str(error)) from None
 
 
 def seed_type(text):

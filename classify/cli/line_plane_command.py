@@ -60,14 +60,13 @@ def add_parser(commands):
 def _number(text, option):
     import math
 
-    from mechanisms._numerals import Underflow, decimal_number
+    from mechanisms._numerals import decimal_number
     from mechanisms.joints import COORDINATE_LIMIT
 
     try:
         value = decimal_number(text)
     except ValueError as error:
-        reason = str(error) if isinstance(error, Underflow) else f"expected a number, got {text[:40]!r}"
-        raise InputError(f"{option}: {reason}") from None
+        raise InputError(f"{option}: {error}") from None
     if not math.isfinite(value):
         raise InputError(f"{option}: expected finite numbers, got {text[:40]}")
     if abs(value) > COORDINATE_LIMIT:

@@ -18,7 +18,7 @@ from typing import Callable, Mapping
 
 import numpy as np
 
-from .._numerals import Underflow, decimal_integer, decimal_number
+from .._numerals import decimal_integer, decimal_number
 from ..errors import MechanismError
 from ..joints import COORDINATE_LIMIT, check_text, is_number
 from ..mechanism import Mechanism
@@ -214,8 +214,7 @@ def parse_parameter(entry, text):
         try:
             number = decimal_number(value)
         except ValueError as error:
-            reason = str(error) if isinstance(error, Underflow) else f"expected a number, got {value[:40]!r}"
-            raise MechanismError(f"--param {name}: {reason}") from None
+            raise MechanismError(f"--param {name}: {error}") from None
         if not math.isfinite(number):
             raise MechanismError(f"--param {name}: expected a finite number, got {value[:40]!r}")
         return name, _in_range(number, name)
