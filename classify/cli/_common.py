@@ -15,7 +15,7 @@ __all__ = [
     "MECHANISM_SUFFIXES", "COUNT_LIMIT", "SEED_LIMIT", "LENGTH_SCALE_RATIO", "PATH_STEP_RANGE",
     "InputError", "Parser", "entry_options", "common_options", "displacements",
     "check_length_scale", "check_count", "check_path_step", "integer", "number", "is_entry", "path_exists",
-    "entry_values",
+    "entry_values", "threads_option",
     "source", "joint_list", "finite", "dumps", "write_output", "IMPORT_SUFFIXES", "closures_option", "import_file",
 ]
 
@@ -130,6 +130,22 @@ def survey_option(parser):
     parser.add_argument("--survey", default=None, metavar="FILE",
                         help="survey cache file: read when it exists and was made for this mechanism, else "
                              "computed and written")
+
+
+def _threads(text):
+    """``--threads``: a positive integer, or -1 (every usable core)."""
+    value = integer(text)
+    if not (value >= 1 or value == -1):
+        raise argparse.ArgumentTypeError(f"expected a positive integer or -1 (every usable core), got {value}")
+    return value
+
+
+def threads_option(parser):
+    """``--threads T``: the threads :func:`classify.classify_many` runs its chunks in (its ``workers``); None
+    when not given (every usable core)."""
+    parser.add_argument("--threads", type=_threads, default=None, metavar="T",
+                        help="threads to classify in: a positive integer, or -1 for every usable core (default); "
+                             "the result does not depend on it")
 
 
 def common_options(parser):

@@ -2,11 +2,11 @@
 --assemble [--branch N]] [--survey FILE] [--format json|text]``: classify ``home ⊕ at`` (docs/design.rst, "CLI"),
 or the assembly with the ``--at`` joints held at exactly those values (:func:`mechanisms.assemble`).
 
-``closedchain classify FILE|NAME --batch FILE.{json,jsonl,csv,npy} [--project] [--survey FILE]
+``closedchain classify FILE|NAME --batch FILE.{json,jsonl,csv,npy} [--project] [--survey FILE] [--threads T]
 [--out FILE.{jsonl,json,csv,npz}] [--format json|text]``: classify many configurations at once, each given as
 ``--at`` gives one (joint displacements from home; the file formats and their limits in
-:mod:`classify.cli._batch_io`), with one :func:`classify.classify_many` call (its chunks in threads on every
-usable core). With ``--project`` each is projected onto M first; otherwise a configuration that does not close
+:mod:`classify.cli._batch_io`), with one :func:`classify.classify_many` call (its chunks in ``--threads`` threads,
+every usable core by default). With ``--project`` each is projected onto M first; otherwise a configuration that does not close
 the loops is refused, naming its row. Output: JSON
 lines (one object per configuration: ``row``, then :meth:`classify.Classifications.rows`, then the
 ``displacements`` of the configuration classified, and ``projection_distance`` with ``--project``) on stdout, or
@@ -26,7 +26,7 @@ from ..progress import show_progress
 from ..text import printable
 from ._common import (
     InputError, check_length_scale, closures_option, common_options, displacements, dumps, entry_options,
-    entry_values, integer, is_entry, source, survey_option,
+    entry_values, integer, is_entry, source, survey_option, threads_option,
 )
 
 __all__ = ["add_parser", "run", "describe_source"]
@@ -86,6 +86,7 @@ def add_parser(commands):
                         help="with --assemble: the N-th assembly at those inputs, by distance from home "
                              "(default: the one reached from home)")
     survey_option(parser)
+    threads_option(parser)
     parser.add_argument("--out", default=None, metavar="FILE",
                         help="with --batch: write the results to FILE (.jsonl, .json, .csv or .npz) and print a "
                              "summary")
@@ -120,8 +121,9 @@ def run(arguments, out):
     if arguments.batch is not None:
         _run_batch(arguments, out)
         return
-    if arguments.out is not None:
-        raise InputError("--out: applies with --batch")
+    for option, given in (("--out", arguments.out is not None), ("--threads", arguments.threads is not None)):
+        if given:
+            raise InputError(f"{option}: applies with --batch")
     _run_single(arguments, out)
 
 
@@ -230,7 +232,8 @@ def _run_batch(arguments, out):
     _warn_serial(mechanism)
     model = model_of(mechanism, arguments.length_scale)
     survey = model_survey(arguments.survey, model)
-    result = classify_many(model, points, survey=survey, progress=show_progress(), workers=-1)
+    result = classify_many(model, points, survey=survey, progress=show_progress(),
+                          workers=-1 if arguments.threads is None else arguments.threads)
     displacements_matrix = displacements_of(mechanism, result.points)
     summary = "classified " + outputs.summary_line(outputs.kind_counts(result), len(result))
     if file_format == "npz":

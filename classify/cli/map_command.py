@@ -1,6 +1,6 @@
 """``closedchain map FILE|NAME --grid NAME=a:b:n [NAME=a:b:n ...] [--project] [--configuration C] [--param K=V]
-[--survey FILE] [--out FILE.npz|csv|json|jsonl] [--format json|text]``: classify every point of a grid of joint
-coordinates.
+[--survey FILE] [--threads T] [--out FILE.npz|csv|json|jsonl] [--format json|text]``: classify every point of a
+grid of joint coordinates.
 
 The grid is over joint coordinates given as displacements from the home, as
 ``--at`` gives them (``A``, ``S1[x]``, ``U1[2]``; :mod:`classify.cli._names`);
@@ -32,8 +32,9 @@ every coordinate, the grid ones included; unreachable where projection
 fails. Each point reports its projection distance.
 
 Then one :func:`classify.classify_many` over the reachable points (its chunks
-in threads on every usable core), with the mechanism's survey of M (``--survey FILE``: a cache file, read when it was
-made for this mechanism, else computed and written).
+in ``--threads`` threads, every usable core by default), with the mechanism's
+survey of M (``--survey FILE``: a cache file, read when it was made for this
+mechanism, else computed and written).
 
 Output: per grid point its index, grid coordinates, whether it was reached,
 and, when reached, the row of :meth:`classify.Classifications.rows` (kinds,
@@ -55,7 +56,8 @@ from __future__ import annotations
 
 from ..progress import progress_bar, show_progress
 from ..text import printable
-from ._common import InputError, check_length_scale, common_options, entry_options, source, survey_option
+from ._common import (InputError, check_length_scale, common_options, entry_options, source, survey_option,
+                      threads_option)
 
 __all__ = ["add_parser", "run", "PICTURE"]
 
@@ -75,6 +77,7 @@ def add_parser(commands):
                         help="project each grid point's configuration onto the C-space (moves every coordinate) "
                              "instead of holding the grid coordinates and solving the loops for the others")
     survey_option(parser)
+    threads_option(parser)
     parser.add_argument("--out", default=None, metavar="FILE",
                         help="write the map to FILE (.npz, .csv, .json or .jsonl) and print a summary")
     parser.add_argument("--format", choices=("json", "text"), default="text",
@@ -230,7 +233,8 @@ def run(arguments, out):
     points, reachable, distance, starting = _configurations(arguments, mechanism, named, grid)
     model = model_of(mechanism, arguments.length_scale)
     survey = model_survey(arguments.survey, model)
-    result = classify_many(model, points[reachable], survey=survey, progress=show_progress(), workers=-1)
+    result = classify_many(model, points[reachable], survey=survey, progress=show_progress(),
+                          workers=-1 if arguments.threads is None else arguments.threads)
     displacements = displacements_of(mechanism, result.points)
     reached = int(reachable.sum())
     summary = {"total": grid.size, "reachable": reached, "unreachable": grid.size - reached,

@@ -378,9 +378,40 @@ def test_options_that_do_not_apply_to_a_batch(tmp_path, capsys, extra, fragment)
     assert status == 2 and err.count("\n") == 1 and fragment in err
 
 
-def test_out_without_batch_is_refused(capsys):
-    status, _, err = run(["classify", FIVE_BAR, "--out", "x.jsonl"], capsys)
-    assert status == 2 and "--out: applies with --batch" in err
+@pytest.mark.parametrize("option", [["--out", "x.jsonl"], ["--threads", "2"]])
+def test_batch_options_without_batch_are_refused(capsys, option):
+    status, _, err = run(["classify", FIVE_BAR, *option], capsys)
+    assert status == 2 and f"{option[0]}: applies with --batch" in err
+
+
+def test_threads_reach_classify_many_and_do_not_change_the_output(tmp_path, capsys, monkeypatch, batch):
+    import classify.batch
+
+    mechanism, rows, _, _ = batch
+    path = _write(tmp_path, ".jsonl", mechanism, rows)
+    asked = []
+    original = classify.batch.classify_many
+
+    def recording(*arguments, workers=1, **options):
+        asked.append(workers)
+        return original(*arguments, workers=workers, chunk=2, **options)  # several chunks, so threads have work
+
+    monkeypatch.setattr(classify.batch, "classify_many", recording)
+    outputs = {}
+    for threads in (None, "1", "2"):
+        status, outputs[threads], err = run(["classify", FIVE_BAR, "--batch", path]
+                                            + ([] if threads is None else ["--threads", threads]), capsys)
+        assert status == 0, err
+    assert asked == [-1, 1, 2]
+    assert outputs["1"] == outputs["2"] == outputs[None]
+
+
+@pytest.mark.parametrize("value", ["0", "-2", "two", "1.5"])
+def test_bad_thread_counts_exit_2_naming_the_option(tmp_path, capsys, value):
+    path = tmp_path / "rows.json"
+    path.write_text("[{}]")
+    status, _, err = run(["classify", FIVE_BAR, "--batch", str(path), "--threads", value], capsys)
+    assert status == 2 and err.count("\n") == 1 and "--threads" in err and value in err
 
 
 # ------------------------------------------------------------------------------------------------ progress

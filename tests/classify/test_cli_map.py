@@ -268,6 +268,23 @@ def test_survey_file_is_written_then_reused(tmp_path, monkeypatch):
     assert json.loads(second[1])["survey"] == json.loads(survey_path.read_text())["survey"]
 
 
+def test_threads_reach_classify_many_and_do_not_change_the_map(monkeypatch):
+    batch = importlib.import_module("classify.batch")
+    asked = []
+    original = batch.classify_many
+
+    def recording(*arguments, workers=1, **options):
+        asked.append(workers)
+        return original(*arguments, workers=workers, chunk=5, **options)  # several chunks, so threads have work
+
+    monkeypatch.setattr(batch, "classify_many", recording)
+    outputs = [run(["map", "five-bar", "--grid", *GRID_7X7, "--format", "json", *threads])
+               for threads in ([], ["--threads", "1"], ["--threads", "2"])]
+    assert asked == [-1, 1, 2]
+    assert all(status == 0 for status, _, _ in outputs)
+    assert outputs[0][1] == outputs[1][1] == outputs[2][1]
+
+
 # ------------------------------------------------------------------------------------------------ bad input
 
 @pytest.mark.parametrize("grid, fragment", [
@@ -307,6 +324,7 @@ def test_grid_errors_exit_2_with_one_line(grid, fragment):
     # an empty path was named '.'
     (["map", "", "--grid", "A=0:1:3"], "FILE|NAME: an empty path"),
     (["map", "five-bar", "--grid", "A=0:1:3", "--survey", ""], "--survey: an empty path"),
+    (["map", "five-bar", "--grid", "A=0:1:3", "--threads", "0"], "--threads: expected a positive integer or -1"),
 ])
 def test_other_bad_options_exit_2(argv, fragment):
     status, _, err = run(argv)
