@@ -345,12 +345,18 @@ def compare(mechanism, points, labels=None, relation=None, coordinates=None, sur
     length_scale : float, optional
         For a Mechanism's SE(2)/SE(3) end-effector metric.
     input_names, output_names : sequence of str, optional
-        Names for the report; default the relation's, or the actuated and
-        end-effector coordinates.
+        Names for the report, one per input (output); default the
+        relation's, or the actuated coordinates and ``y1``, ``y2``, ….
 
     Returns
     -------
     Comparison
+
+    Raises
+    ------
+    TypeError, ValueError
+        Names that are not a sequence of str (a bare string would be read
+        letter by letter), or not one per input (output).
     """
     if relation is not None and coordinates is None:
         raise ValueError("a given relation F needs `coordinates(point) -> (theta, x)`")
@@ -366,14 +372,23 @@ def compare(mechanism, points, labels=None, relation=None, coordinates=None, sur
                            relation, coordinates, rtol)
             for label, point in zip(labels, points)]
     names = model.coordinate_names
-    if input_names is None:
-        input_names = relation.input_names if relation is not None else tuple(
-            names[index] for index in np.flatnonzero(np.any(model.actuators != 0, axis=0)))
-    if output_names is None:
-        output_names = relation.output_names if relation is not None else tuple(
-            f"y{index + 1}" for index in range(model.end_effector_dimension))
-    return Comparison(model.name, tuple(input_names), tuple(output_names),
+    input_names = _names(input_names, "input_names", relation.input_names if relation is not None else tuple(
+        names[index] for index in np.flatnonzero(np.any(model.actuators != 0, axis=0))))
+    output_names = _names(output_names, "output_names", relation.output_names if relation is not None else tuple(
+        f"y{index + 1}" for index in range(model.end_effector_dimension)))
+    return Comparison(model.name, input_names, output_names,
                       "derived" if relation is None else relation.name, tuple(rows))
+
+
+def _names(given, field, default):
+    """The names for the report: `given` (a sequence of as many strings as `default`), or `default`."""
+    if given is None:
+        return tuple(default)
+    if isinstance(given, str) or not all(isinstance(name, str) for name in given):
+        raise TypeError(f"{field}: expected a sequence of names (str), got {given!r}")
+    if len(given) != len(default):
+        raise ValueError(f"{field}: {len(given)} names given, {len(default)} expected ({', '.join(default)})")
+    return tuple(given)
 
 
 def sample_configurations(model, count, rng, starts=None):

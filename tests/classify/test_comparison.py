@@ -193,6 +193,17 @@ def test_summary_counts_and_text():
     assert set(data["configurations"][0]["gosselin_angeles"]) >= {"kinds", "rank_A", "rank_B", "n"}
 
 
+def test_names_for_the_report_are_used_as_given_or_refused():
+    mechanism, model = slider_crank()
+    point = [home(mechanism)]
+    result = compare(model, point, input_names=["theta"], output_names=("x",))
+    assert result.inputs == ("theta",) and result.outputs == ("x",)
+    with pytest.raises(TypeError, match="input_names: expected a sequence of names"):
+        compare(model, point, input_names="theta")  # not the letters t, h, e, t, a
+    with pytest.raises(ValueError, match=r"output_names: 2 names given, 1 expected \(y1\)"):
+        compare(model, point, output_names=["x", "y"])
+
+
 def test_every_reason_of_the_closed_list_is_exercised():
     """Runs last in this module (pytest keeps file order): every REASONS key was met above."""
     missing = set(REASONS) - EXERCISED
