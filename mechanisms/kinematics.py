@@ -51,6 +51,7 @@ constant pattern of DΦ (:func:`constraint_pattern`) and its entries
 
 from __future__ import annotations
 
+import math
 import weakref
 from dataclasses import dataclass
 from typing import Optional
@@ -192,6 +193,12 @@ def configuration_space(mechanism):
     )
 
 
+def _flattened(array, batch):
+    """`array` of shape [*batch, ...] with its trailing axes as one, shape=[*batch, size] (a reshape with -1
+    would fail on an empty stack)."""
+    return array.reshape(batch + (math.prod(array.shape[len(batch):]),))
+
+
 def constraint(mechanism, point):
     """Loop-closure map Φ(point), rows loop by loop, shape=[..., c].
 
@@ -203,7 +210,7 @@ def constraint(mechanism, point):
     if compiled.space == "planar":
         return _planar_closure(compiled, point, 0)[0]
     rows = groups.loop_rows(compiled.space, chains.loop_products(compiled, point), compiled.length)
-    return rows.reshape(point.shape[:-1] + (-1,))
+    return _flattened(rows, point.shape[:-1])
 
 
 def _planar_closure(compiled, point, order):
@@ -218,11 +225,11 @@ def _planar_closure(compiled, point, order):
         rows[..., group.chains, :] = group_rows
         turns &= np.all(group_turns, axis=-1)
         if order >= 1:
-            entries.append(group_entries.reshape(batch + (-1,)))
+            entries.append(_flattened(group_entries, batch))
     if order < 1:
-        return rows.reshape(batch + (-1,)), turns, None
+        return _flattened(rows, batch), turns, None
     entries = np.concatenate(entries, axis=-1) if entries else np.zeros(batch + (0,))
-    return rows.reshape(batch + (-1,)), turns, entries
+    return _flattened(rows, batch), turns, entries
 
 
 def constraint_pattern(mechanism):
@@ -237,8 +244,8 @@ def constraint_jacobian_entries(mechanism, point):
     point = _as_points(mechanism, point)
     if compiled.space == "planar":
         return _planar_closure(compiled, point, 1)[2]
-    entries = [chains.loop_first_order(compiled.space, group, point, compiled.length)[1]
-               .reshape(point.shape[:-1] + (-1,)) for group in compiled.loop_groups]  # [..., g, C, R] each
+    entries = [_flattened(chains.loop_first_order(compiled.space, group, point, compiled.length)[1],
+                          point.shape[:-1]) for group in compiled.loop_groups]  # [..., g, C, R] each
     return np.concatenate(entries, axis=-1) if entries else np.zeros(point.shape[:-1] + (0,))
 
 
@@ -289,10 +296,10 @@ def closure_and_jacobian(mechanism, point):
     for group in compiled.loop_groups:
         product, group_entries = chains.loop_first_order(compiled.space, group, point, compiled.length)
         products[..., group.chains, :, :] = product
-        entries.append(group_entries.reshape(point.shape[:-1] + (-1,)))
+        entries.append(_flattened(group_entries, point.shape[:-1]))
     if entries:
         jacobian[..., pattern.rows, pattern.columns] = np.concatenate(entries, axis=-1)
-    rows = groups.loop_rows(compiled.space, products, compiled.length).reshape(point.shape[:-1] + (-1,))
+    rows = _flattened(groups.loop_rows(compiled.space, products, compiled.length), point.shape[:-1])
     turns = np.all(groups.is_identity_rotation(compiled.space, products), axis=-1)
     return rows, turns, jacobian
 

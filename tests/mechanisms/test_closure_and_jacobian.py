@@ -27,3 +27,16 @@ def test_one_expansion_equals_the_separate_functions(name):
     np.testing.assert_array_equal(turns, closes(mechanism, points, tolerance=np.inf))
     np.testing.assert_allclose(jacobian, constraint_jacobian(mechanism, points), rtol=0, atol=1e-15)
     assert turns.reshape(-1)[-1] and not turns.reshape(-1)[-2]  # the home closes; the half-turn is seen
+
+
+@pytest.mark.parametrize("name", sorted(MECHANISMS))
+@pytest.mark.parametrize("batch", [(0,), (2, 0)])
+def test_an_empty_stack_gives_empty_arrays_of_the_right_shapes(name, batch):
+    """A stack of no configurations (e.g. a map none of whose points is reachable) was a reshape error."""
+    mechanism = MECHANISMS[name]()
+    point_size, (rows_count, columns) = home(mechanism).size, kinematics_of(mechanism).pattern.shape
+    points = np.zeros(batch + (point_size,))
+    rows, turns, jacobian = closure_and_jacobian(mechanism, points)
+    assert rows.shape == constraint(mechanism, points).shape == batch + (rows_count,)
+    assert turns.shape == closes(mechanism, points).shape == batch
+    assert jacobian.shape == constraint_jacobian(mechanism, points).shape == batch + (rows_count, columns)
