@@ -61,6 +61,7 @@ Used by ``closedchain map`` (:mod:`classify.cli.map_command`) and the loci
 from __future__ import annotations
 
 import math
+import numbers
 from dataclasses import dataclass
 
 import numpy as np
@@ -135,6 +136,13 @@ class Grid:
         Their columns in a displacement matrix (indices into ``mechanism.coordinate_names``).
     starts, stops : tuple of float
     counts : tuple of int
+
+    Raises
+    ------
+    ValueError
+        If the fields are not one per axis, the columns not distinct
+        non-negative integers, a start or stop not a finite number, or a
+        count not a positive integer (so nothing is dropped or rounded).
     """
 
     names: tuple
@@ -142,6 +150,26 @@ class Grid:
     starts: tuple
     stops: tuple
     counts: tuple
+
+    def __post_init__(self):
+        fields = {"names": self.names, "columns": self.columns, "starts": self.starts, "stops": self.stops,
+                  "counts": self.counts}
+        if len({len(value) for value in fields.values()}) != 1:
+            raise ValueError("Grid: names, columns, starts, stops and counts must have one entry per axis, got "
+                             + ", ".join(f"{len(value)} {field}" for field, value in fields.items()))
+
+        def whole(value):
+            return isinstance(value, numbers.Integral) and not isinstance(value, bool)
+
+        if not all(whole(column) and column >= 0 for column in self.columns) or len(set(self.columns)) != len(
+                self.columns):
+            raise ValueError(f"Grid: columns must be distinct non-negative integers, got {self.columns!r}")
+        for field in ("starts", "stops"):
+            if not all(isinstance(value, numbers.Real) and not isinstance(value, bool) and math.isfinite(value)
+                       for value in fields[field]):
+                raise ValueError(f"Grid: {field} must be finite numbers, got {fields[field]!r}")
+        if not all(whole(count) and count >= 1 for count in self.counts):
+            raise ValueError(f"Grid: counts must be positive integers, got {self.counts!r}")
 
     @property
     def shape(self):

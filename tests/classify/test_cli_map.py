@@ -12,6 +12,7 @@ import importlib
 import io
 import json
 import math
+import re
 
 import numpy as np
 import pytest
@@ -352,3 +353,20 @@ def test_map_from_an_actuator_singular_start_reaches_the_grid():
     assert status == 0 and not json.loads(out)["start"]["singular"]
     status, out, _ = run(["map", "five-bar", "--grid", "A=-1:1:3", "B=-1:1:3", "--project", "--format", "json"])
     assert status == 0 and json.loads(out)["start"] is None
+
+
+@pytest.mark.parametrize("fields, fragment", [
+    ((("A", "B"), (0,), (0.0, 0.0), (1.0, 1.0), (3, 3)), "one entry per axis, got 2 names, 1 columns"),
+    ((("A",), (-1,), (0.0,), (1.0,), (3,)), "columns must be distinct non-negative integers"),
+    ((("A", "B"), (0, 0), (0.0, 0.0), (1.0, 1.0), (3, 3)), "columns must be distinct"),
+    ((("A",), (0,), (math.nan,), (1.0,), (3,)), "starts must be finite numbers"),
+    ((("A",), (0,), (0.0,), ("1",), (3,)), "stops must be finite numbers"),
+    ((("A",), (0,), (0.0,), (1.0,), (2.5,)), "counts must be positive integers"),
+    ((("A",), (0,), (0.0,), (1.0,), (0,)), "counts must be positive integers"),
+])
+def test_a_hand_built_grid_is_checked(fields, fragment):
+    """zip() would drop an axis of mismatched fields, and linspace would read a count of 2.5 as 2."""
+    from classify.grid_continuation import Grid
+
+    with pytest.raises(ValueError, match=re.escape(fragment)):
+        Grid(*fields)
