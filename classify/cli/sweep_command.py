@@ -19,10 +19,12 @@ from ..progress import progress_bar
 from ..text import printable
 from ._common import COUNT_LIMIT, InputError, dumps, finite, integer, seed_type, write_output
 
-__all__ = ["add_parser", "run", "SCHEDULER_TIMEOUT", "WORKER_LIMIT", "OUTPUT_SUFFIXES", "read_table"]
+__all__ = ["add_parser", "run", "SCHEDULER_TIMEOUT", "WORKER_WAIT", "WORKER_LIMIT", "OUTPUT_SUFFIXES", "read_table"]
 
 #: seconds allowed to reach a --scheduler before giving up
 SCHEDULER_TIMEOUT = 5.0
+#: seconds to wait for a first worker of a scheduler that has none (an adaptive cluster may be starting one)
+WORKER_WAIT = 60.0
 #: most local worker processes --workers may ask for
 WORKER_LIMIT = 64
 #: default number of local worker processes
@@ -88,7 +90,7 @@ def _check(arguments):
 
 
 def _check_out(path):
-    suffix = Path(path).suffix.lower()
+    suffix = os.path.splitext(path)[1].lower()  # Path("sweep.csv/").suffix would be ".csv"
     if suffix not in OUTPUT_SUFFIXES:
         raise InputError(f"--out: expected a file ending in {', '.join(OUTPUT_SUFFIXES)}, got "
                          f"{printable(path)[:80]}")
@@ -131,8 +133,9 @@ async def _probe(address, timeout):
 def _connect(address):
     """A client of the scheduler at `address`; an input error naming --scheduler if it cannot be reached.
 
-    The address is probed first (:func:`_probe`), so that an unreachable one fails within
-    :data:`SCHEDULER_TIMEOUT` and leaves no half-made client behind.
+    The address is probed first (:func:`_probe`), so that an unreachable one (or another kind of server)
+    fails within :data:`SCHEDULER_TIMEOUT` and leaves no half-made client behind; a scheduler that has no
+    worker is given :data:`WORKER_WAIT` seconds for one to join (else the sweep would wait for ever).
     """
     import asyncio
 
@@ -141,12 +144,22 @@ def _connect(address):
     shown = printable(address)[:80]
     try:
         asyncio.run(_probe(address, SCHEDULER_TIMEOUT))
-        return Client(address, timeout=SCHEDULER_TIMEOUT, set_as_default=False)
+        client = Client(address, timeout=SCHEDULER_TIMEOUT, set_as_default=False)
     except (OSError, ValueError, TypeError) as error:  # TimeoutError is an OSError
         reason = " ".join(str(error).split())
         if isinstance(error, TimeoutError) or reason.startswith("Timed out") or not reason:
             reason = f"no answer within {SCHEDULER_TIMEOUT:g} s"
         raise InputError(f"--scheduler: cannot reach a Dask scheduler at {shown}: {reason}") from None
+    except Exception:  # another server's answer read as Dask frames: a MemoryError, a struct.error, …
+        raise InputError(f"--scheduler: {shown} answers, but not as a Dask scheduler (another server on that "
+                         f"port?)") from None
+    try:
+        client.wait_for_workers(1, timeout=WORKER_WAIT)
+    except TimeoutError:
+        client.close()
+        raise InputError(f"--scheduler: the scheduler at {shown} has no worker (none joined within "
+                         f"{WORKER_WAIT:g} s); start workers with `dask worker {shown}`") from None
+    return client
 
 
 @contextmanager
@@ -405,6 +418,10 @@ def run(arguments, out):
                              f"closedchain on every worker") from None
         finally:
             bar.close()
+    errors = [row["error"] or "" for row in result.rows]
+    if all("cannot be built" in error and not error.startswith("cannot be analysed") for error in errors):
+        # a fixed value that no design can have (classify refuses it too), not a sweep that found nothing
+        raise InputError(f"--param: no design of the sweep can be built (design 0: {errors[0]})")
     if arguments.out is not None:
         _write(result, arguments.out)
     text = _summary_json if arguments.format == "json" else _summary_text

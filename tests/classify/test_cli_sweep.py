@@ -3,8 +3,10 @@ local cluster, a running scheduler) and one-line errors naming the option."""
 
 import csv
 import json
+import socket
 import subprocess
 import sys
+import threading
 
 import pytest
 
@@ -156,6 +158,22 @@ def test_bad_param_exits_2_with_one_line(capfd, arguments, fragment):
     assert err.count("\n") == 1 and err.startswith("closedchain: error: --param") and fragment in err
 
 
+@pytest.mark.parametrize("arguments, fragment", [
+    (["--param", "branch=7", "--param", "crank=1:2:2"],
+     "--param: no design of the sweep can be built (design 0: slider-crank with crank=1.0, branch=7: cannot be "
+     "built: slider-crank: branch must be 1, -1 or 0, got 7)"),
+    (["--param", "actuated=1:2:2"], "--param: no design of the sweep can be built (design 0: slider-crank with "
+                                    "actuated='1:2:2': cannot be built"),
+])
+def test_a_fixed_value_no_design_can_have_exits_2(capfd, tmp_path, arguments, fragment):
+    """Every row an error, and the sweep exited 0 (classify refuses the same value with status 2)."""
+    path = tmp_path / "sweep.csv"
+    status, out, err = run(["slider-crank", *arguments, "--samples", "2", "--scheduler", "serial", "--out",
+                            str(path)], capfd)
+    assert status == 2 and out == "" and not path.exists()
+    assert err.splitlines()[-1].startswith("closedchain: error: ") and fragment in err.splitlines()[-1], err
+
+
 @pytest.mark.parametrize("address, fragment", [
     ("nonsense", "missing port number"),
     ("udp://127.0.0.1:8786", "unknown address scheme 'udp'"),
@@ -169,6 +187,50 @@ def test_bad_scheduler_exits_2_with_one_line(capfd, monkeypatch, address, fragme
                                                    f"scheduler at {address}") and fragment in err
 
 
+@pytest.fixture
+def http_server():
+    """The address of a server that answers every connection as an HTTP server would (not Dask's frames)."""
+    listener = socket.create_server(("127.0.0.1", 0))
+    stop = threading.Event()
+
+    def serve():
+        listener.settimeout(0.1)
+        while not stop.is_set():
+            try:
+                connection, _ = listener.accept()
+            except OSError:
+                continue
+            with connection:
+                connection.sendall(b"HTTP/1.1 400 Bad Request\r\ncontent-length: 0\r\n\r\n")
+                stop.wait(1.0)
+
+    thread = threading.Thread(target=serve, daemon=True)
+    thread.start()
+    yield f"tcp://127.0.0.1:{listener.getsockname()[1]}"
+    stop.set()
+    thread.join()
+    listener.close()
+
+
+def test_another_kind_of_server_exits_2_with_one_line(capfd, monkeypatch, http_server):
+    """Its answer read as Dask frames was an internal error (a MemoryError of exbibytes)."""
+    monkeypatch.setattr(sweep_command, "SCHEDULER_TIMEOUT", 2.0)
+    status, out, err = run([*GRID, "--samples", "2", "--scheduler", http_server], capfd)
+    assert status == 2 and out == ""
+    assert err.count("\n") == 1 and f"--scheduler: {http_server} answers, but not as a Dask scheduler" in err
+
+
+def test_a_scheduler_without_workers_exits_2_instead_of_waiting_for_ever(capfd, monkeypatch):
+    from distributed import LocalCluster
+
+    monkeypatch.setattr(sweep_command, "WORKER_WAIT", 0.5)
+    with LocalCluster(n_workers=0, processes=False, dashboard_address=None) as cluster:
+        status, out, err = run([*GRID, "--samples", "2", "--scheduler", cluster.scheduler_address], capfd)
+    assert status == 2 and out == ""
+    assert f"--scheduler: the scheduler at {cluster.scheduler_address} has no worker (none joined within 0.5 s)" in err
+    assert err.count("\n") == 1, err
+
+
 @pytest.mark.parametrize("arguments, fragment", [
     (["--samples", "0"], "--samples: expected a count ≥ 1 and at most 10000, got 0"),
     (["--workers", "-1"], "--workers: expected a number of processes from 0 to 64, got -1"),
@@ -176,6 +238,7 @@ def test_bad_scheduler_exits_2_with_one_line(capfd, monkeypatch, address, fragme
     (["--chunk", "0"], "--chunk: expected at least 1 design per task, got 0"),
     (["--out", "sweep.txt"], "--out: expected a file ending in .csv, .json, .parquet"),
     (["--out", "no/such/folder/sweep.csv"], "--out: no/such/folder/sweep.csv: no folder"),
+    (["--out", "sweep.csv/"], "--out: expected a file ending in .csv"),  # was written to sweep.csv
     (["--seed", "-3"], "argument --seed: expected an integer from 0"),
     (["--scheduler", " "], "--scheduler: expected an address"),
 ])
