@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import sys
 from pathlib import Path
 
 from mechanisms import MechanismError, catalogue
@@ -15,7 +16,7 @@ __all__ = [
     "MECHANISM_SUFFIXES", "COUNT_LIMIT", "SEED_LIMIT", "LENGTH_SCALE_RATIO", "PATH_STEP_RANGE",
     "InputError", "Parser", "entry_options", "common_options", "displacements",
     "check_length_scale", "check_count", "check_path_step", "integer", "number", "is_entry", "path_exists",
-    "entry_values", "threads_option",
+    "entry_values", "threads_option", "warn_if_serial",
     "source", "joint_list", "finite", "dumps", "write_output", "IMPORT_SUFFIXES", "closures_option", "import_file",
 ]
 
@@ -319,6 +320,12 @@ def _source(arguments):
         raise InputError(f"--configuration: {path} has no configuration {arguments.configuration!r} "
                          f"(known: {known})")
     return document.mechanism, document.configurations[arguments.configuration]
+
+
+def warn_if_serial(mechanism):
+    """A warning on stderr for a mechanism without loops (e.g. a URDF read without its --closures)."""
+    if mechanism.loop_count == 0:
+        print(f"closedchain: warning: {printable(mechanism.name)} has no loop (a serial chain)", file=sys.stderr)
 
 
 def joint_list(text, where):

@@ -20,13 +20,11 @@ a compact table (``--format text``), or ``--out FILE``: ``.jsonl``, ``.json`` (a
 
 from __future__ import annotations
 
-import sys
-
 from ..progress import show_progress
 from ..text import printable
 from ._common import (
     InputError, check_length_scale, closures_option, common_options, displacements, dumps, entry_options,
-    entry_values, integer, is_entry, source, survey_option, threads_option,
+    entry_values, integer, is_entry, source, survey_option, threads_option, warn_if_serial,
 )
 
 __all__ = ["add_parser", "run", "describe_source"]
@@ -111,11 +109,6 @@ def _assembled(mechanism, named, at, arguments):
     return reached.point, reached.to_dict()
 
 
-def _warn_serial(mechanism):
-    if mechanism.loop_count == 0:
-        print(f"closedchain: warning: {printable(mechanism.name)} has no loop (a serial chain)", file=sys.stderr)
-
-
 def run(arguments, out):
     check_length_scale(arguments.length_scale)
     if arguments.batch is not None:
@@ -148,7 +141,7 @@ def _run_single(arguments, out):
     else:
         projected = configuration(mechanism, {**named, **at}, project_onto=arguments.project, where="--at")
         point, distance = projected.point, projected.distance
-    _warn_serial(mechanism)
+    warn_if_serial(mechanism)
     survey = None if arguments.survey is None else model_survey(arguments.survey,
                                                                  model_of(mechanism, arguments.length_scale))
     rng = np.random.default_rng(arguments.seed)
@@ -229,7 +222,7 @@ def _run_batch(arguments, out):
     file_format = outputs.output_format(arguments.out) if arguments.out is not None else None
     mechanism, named = source(arguments)
     points, distance = _batch_points(arguments, mechanism, named)
-    _warn_serial(mechanism)
+    warn_if_serial(mechanism)
     model = model_of(mechanism, arguments.length_scale)
     survey = model_survey(arguments.survey, model)
     result = classify_many(model, points, survey=survey, progress=show_progress(),

@@ -1,5 +1,5 @@
 """``closedchain map FILE|NAME --grid NAME=a:b:n [NAME=a:b:n ...] [--project] [--configuration C] [--param K=V]
-[--survey FILE] [--threads T] [--out FILE.npz|csv|json|jsonl] [--format json|text]``: classify every point of a
+[--closures FILE] [--survey FILE] [--threads T] [--out FILE.npz|csv|json|jsonl] [--format json|text]``: classify every point of a
 grid of joint coordinates.
 
 The grid is over joint coordinates given as displacements from the home, as
@@ -56,8 +56,8 @@ from __future__ import annotations
 
 from ..progress import progress_bar, show_progress
 from ..text import printable
-from ._common import (InputError, check_length_scale, common_options, entry_options, source, survey_option,
-                      threads_option)
+from ._common import (InputError, check_length_scale, closures_option, common_options, entry_options, source,
+                      survey_option, threads_option, warn_if_serial)
 
 __all__ = ["add_parser", "run", "PICTURE"]
 
@@ -68,8 +68,10 @@ PICTURE = {"regular": ".", "actuator": "A", "end_effector": "E", "cspace": "C", 
 def add_parser(commands):
     parser = commands.add_parser(
         "map", help="classify every point of a grid of joint coordinates (assembled, or projected onto M)")
-    parser.add_argument("file", metavar="FILE|NAME", help="mechanism file (YAML or JSON) or catalogue name")
+    parser.add_argument("file", metavar="FILE|NAME", help="mechanism file (YAML or JSON), URDF (with --closures), "
+                                                          "MJCF (.xml) or catalogue name")
     entry_options(parser)
+    closures_option(parser)
     parser.add_argument("--grid", nargs="+", action="extend", required=True, metavar="NAME=a:b:n",
                         help="a grid axis: coordinate NAME (joint displacement from home, as --at) from a to b in n "
                              "points; repeat for more axes (at most 1e6 points in all)")
@@ -229,6 +231,7 @@ def run(arguments, out):
         raise InputError("--seed: does not apply to `closedchain map` (the map is deterministic)")
     file_format = outputs.output_format(arguments.out) if arguments.out is not None else None
     mechanism, named = source(arguments)
+    warn_if_serial(mechanism)
     grid = parse_grid(arguments.grid, mechanism)
     points, reachable, distance, starting = _configurations(arguments, mechanism, named, grid)
     model = model_of(mechanism, arguments.length_scale)

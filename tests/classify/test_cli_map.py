@@ -13,6 +13,7 @@ import io
 import json
 import math
 import re
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -353,6 +354,22 @@ def test_map_from_an_actuator_singular_start_reaches_the_grid():
     assert status == 0 and not json.loads(out)["start"]["singular"]
     status, out, _ = run(["map", "five-bar", "--grid", "A=-1:1:3", "B=-1:1:3", "--project", "--format", "json"])
     assert status == 0 and json.loads(out)["start"] is None
+
+
+ROBOT = Path(__file__).resolve().parents[1] / "data" / "robots" / "5bar_linkage"
+
+
+def test_a_urdf_is_mapped_with_its_closures_and_warned_without_them():
+    """map had no --closures: a URDF was read as a serial chain, every point 'regular', without a word."""
+    urdf, closures = str(ROBOT / "robot.urdf"), str(ROBOT / "robot.yaml")
+    status, out, err = run(["map", urdf, "--closures", closures, "--grid", "mot1=0:0.2:3", "--format", "json"])
+    assert status == 0, err
+    document = json.loads(out)
+    assert document["summary"]["reachable"] == 3 and "warning" not in err
+    assert [point["ranks"]["cspace"] for point in document["points"]] == [3, 3, 3]  # the closure's rows
+    status, out, err = run(["map", urdf, "--grid", "mot1=0:0.2:3", "--format", "json"])
+    assert status == 0 and "closedchain: warning: 5bar_linkage has no loop (a serial chain)" in err
+    assert [point["ranks"]["cspace"] for point in json.loads(out)["points"]] == [0, 0, 0]
 
 
 @pytest.mark.parametrize("fields, fragment", [
