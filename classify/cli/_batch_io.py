@@ -282,6 +282,9 @@ def _read_npy(path, mechanism, where):
     if not isinstance(mapped, np.ndarray) or mapped.dtype.names is not None or mapped.dtype.kind not in "fiu":
         kind = getattr(getattr(mapped, "dtype", None), "str", type(mapped).__name__)
         raise InputError(f"{where}: expected an array of real numbers, got dtype {shown(kind)}")
+    if mapped.dtype.kind == "f" and mapped.dtype.itemsize > 8:  # its values would be rounded, tiny ones to 0
+        raise InputError(f"{where}: expected float64 or a narrower type, got dtype {shown(mapped.dtype.str)} "
+                         f"(its values would be rounded: convert them yourself)")
     if mapped.ndim != 2 or mapped.shape[1] != len(names):
         raise InputError(f"{where}: field 'shape': expected an array [n, {len(names)}] (columns "
                          f"{printable(', '.join(names))}), got shape {list(mapped.shape)}")

@@ -273,6 +273,9 @@ MALFORMED = [
     ("json-list-for-number", ".json", '[{"J1": [0.1, 0.2]}]', ["row 1:", "joint 'J1'", "expected a number"]),
     ("json-string", ".json", '[{"J1": "0.1"}]', ["row 1:", "joint 'J1'", "expected a number"]),
     ("json-duplicate", ".json", '[{"J1": 0, "J1": 0}]', ["row 1:", "duplicate key 'J1'"]),
+    # a nonzero number below the smallest float was read as 0 (CSV cells refused it already)
+    ("json-underflow", ".json", '[{}, {"J1": 1e-400}]', ["row 2:", "1e-400 is nonzero but below the smallest"]),
+    ("jsonl-underflow", ".jsonl", '{}\n{"J1": -0.5e-330}\n', ["row 2 (line 2):", "-0.5e-330 is nonzero but"]),
     ("json-not-a-list", ".json", '{"J1": 0}', ["expected a JSON list"]),
     ("json-trailing", ".json", '[{}] [{}]', ["extra data"]),
     ("json-unterminated", ".json", '[{}, {}', ["row 2:", "expected ',' or ']'"]),
@@ -319,6 +322,8 @@ def _npy(tmp_path, array):
     (np.array([[0, 0, 0, 0, 2e12]]), ["row 1:", "column 5 (J5)", "out of range"]),
     (np.array([["a", "b", "c", "d", "e"]]), ["expected an array of real numbers"]),
     (np.zeros((0, 5)), ["no configurations"]),
+    pytest.param(np.zeros((1, 5), dtype=np.longdouble), ["expected float64 or a narrower type", "would be rounded"],
+                 marks=pytest.mark.skipif(np.dtype(np.longdouble).itemsize <= 8, reason="long double is float64 here")),
 ])
 def test_malformed_npy_files(tmp_path, capsys, array, fragments):
     path = _npy(tmp_path, array)
@@ -376,6 +381,11 @@ def test_options_that_do_not_apply_to_a_batch(tmp_path, capsys, extra, fragment)
     path.write_text("[{}]")
     status, _, err = run(["classify", FIVE_BAR, "--batch", str(path), *extra], capsys)
     assert status == 2 and err.count("\n") == 1 and fragment in err
+
+
+def test_at_refuses_a_number_below_the_smallest_float(capsys):
+    status, _, err = run(["classify", FIVE_BAR, "--at", '{"J1": 1e-400}'], capsys)
+    assert status == 2 and err.count("\n") == 1 and "--at: cannot parse JSON: 1e-400 is nonzero but below" in err
 
 
 @pytest.mark.parametrize("option", [["--out", "x.jsonl"], ["--threads", "2"]])

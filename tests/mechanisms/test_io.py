@@ -555,6 +555,8 @@ def test_write_text_file_refuses_a_fifo_nobody_reads(tmp_path):
     ("name: " + "[" * 50 + "]" * 50 + "\n", "the document nests deeper than 20 levels"),
     ("name: x\nspace: planar\njoints: [{point: [" + "9" * 500 + "]}]\n",
      "an integer of 500 digits is out of range (at most 400)"),
+    ("name: x\nspace: planar\njoints: [{point: [1e-400, 0]}]\n",  # was read as 0
+     "1e-400 is nonzero but below the smallest float (it would read as 0) at line 3"),
 ])
 def test_yaml_features_a_mechanism_file_does_not_need_are_refused(text, fragment):
     message = refusal(text)
@@ -570,6 +572,7 @@ def test_plain_tags_are_accepted():
     ("[" * 100_000 + "]" * 100_000, "the document nests deeper than 20 levels"),
     ('{"name": ' + "[" * 30 + "]" * 30 + "}", "the document nests deeper than 20 levels"),
     ('{"name": ' + "9" * 5000 + "}", "an integer of 5000 digits is out of range (at most 400)"),
+    ('{"name": 1.5e-400}', "1.5e-400 is nonzero but below the smallest float (it would read as 0)"),
 ])
 def test_pathological_json_is_refused(text, fragment):
     assert refusal(text, "json") == f"mechanism text: cannot parse JSON: {fragment}"
