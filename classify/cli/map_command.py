@@ -1,6 +1,6 @@
 """``closedchain map FILE|NAME --grid NAME=a:b:n [NAME=a:b:n ...] [--project] [--configuration C] [--param K=V]
-[--closures FILE] [--survey FILE] [--threads T] [--out FILE.npz|csv|json|jsonl] [--format json|text]``: classify every point of a
-grid of joint coordinates.
+[--closures FILE] [--survey FILE] [--threads T] [--out FILE.npz|csv|json|jsonl | --format json|text]``: classify
+every point of a grid of joint coordinates.
 
 The grid is over joint coordinates given as displacements from the home, as
 ``--at`` gives them (``A``, ``S1[x]``, ``U1[2]``; :mod:`classify.cli._names`);
@@ -82,7 +82,7 @@ def add_parser(commands):
     threads_option(parser)
     parser.add_argument("--out", default=None, metavar="FILE",
                         help="write the map to FILE (.npz, .csv, .json or .jsonl) and print a summary")
-    parser.add_argument("--format", choices=("json", "text"), default="text",
+    parser.add_argument("--format", choices=("json", "text"), default=None,
                         help="what is printed without --out (default text)")
     common_options(parser)
     return parser
@@ -137,18 +137,19 @@ def _configurations(arguments, mechanism, named, grid):
     StartingPoint or None)."""
     import numpy as np
 
-    from mechanisms import CLOSURE_TOLERANCE, configuration
+    from mechanisms import CLOSURE_TOLERANCE, configuration, validate_displacements
 
     from ..grid_continuation import assemble_grid, held_columns
     from . import _configurations as configurations
 
-    starting = configuration(mechanism, named, where="--configuration")
+    validate_displacements(mechanism, named, "--configuration")
     base = configurations.displacement_vector(mechanism, named)
     requested = np.array(np.broadcast_to(base, (grid.size, base.size)))
     requested[:, list(grid.columns)] = grid.values().reshape(grid.size, len(grid.columns))
     targets = configurations.points_of(mechanism, requested)
-    if arguments.project:
+    if arguments.project:  # every grid point is projected: the start need not close the loops
         return configurations.project_configurations(mechanism, targets, CLOSURE_TOLERANCE) + (None,)
+    starting = configuration(mechanism, named, where="--configuration")
     bar = progress_bar(grid.size, "assembling", unit="point")
     try:
         points, reachable, starting = assemble_grid(mechanism, starting.point, targets, grid.shape,
@@ -230,6 +231,8 @@ def run(arguments, out):
     if arguments.seed:
         raise InputError("--seed: does not apply to `closedchain map` (the map is deterministic)")
     file_format = outputs.output_format(arguments.out) if arguments.out is not None else None
+    if file_format is not None and arguments.format is not None:
+        raise InputError("--format: applies to what is printed; with --out the file's suffix gives the format")
     mechanism, named = source(arguments)
     warn_if_serial(mechanism)
     grid = parse_grid(arguments.grid, mechanism)
@@ -253,7 +256,7 @@ def run(arguments, out):
         out.write(f"{summary_text}; written to {printable(arguments.out)}\n")
         return
     entries = _entries(mechanism, grid, reachable, result, displacements, distance)
-    if file_format is None and arguments.format == "text":
+    if file_format is None and arguments.format != "json":
         out.write(_text(grid, entries, reachable, summary_text))
         return
     held = None if arguments.project else [mechanism.coordinate_names[column]

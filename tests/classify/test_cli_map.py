@@ -327,6 +327,8 @@ def test_grid_errors_exit_2_with_one_line(grid, fragment):
     (["map", "", "--grid", "A=0:1:3"], "FILE|NAME: an empty path"),
     (["map", "five-bar", "--grid", "A=0:1:3", "--survey", ""], "--survey: an empty path"),
     (["map", "five-bar", "--grid", "A=0:1:3", "--threads", "0"], "--threads: expected a positive integer or -1"),
+    (["map", "five-bar", "--grid", "A=0:1:3", "--format", "json", "--out", "map.csv"],
+     "--format: applies to what is printed"),  # was ignored
 ])
 def test_other_bad_options_exit_2(argv, fragment):
     status, _, err = run(argv)
@@ -354,6 +356,20 @@ def test_map_from_an_actuator_singular_start_reaches_the_grid():
     assert status == 0 and not json.loads(out)["start"]["singular"]
     status, out, _ = run(["map", "five-bar", "--grid", "A=-1:1:3", "B=-1:1:3", "--project", "--format", "json"])
     assert status == 0 and json.loads(out)["start"] is None
+
+
+def test_project_starts_from_a_named_configuration_that_does_not_close(tmp_path):
+    """With --project every grid point is projected, so the start need not close (it was refused, with advice
+    to use --project)."""
+    five_bar = Path(__file__).resolve().parents[2] / "examples" / "five_bar.yaml"
+    path = tmp_path / "five_bar.yaml"
+    path.write_text(five_bar.read_text() + "  open: {J1: 0.5}\n")
+    argv = ["map", str(path), "--configuration", "open", "--grid", "J5=-0.1:0.1:3", "--format", "json"]
+    status, out, err = run([*argv, "--project"])
+    assert status == 0, err
+    assert json.loads(out)["summary"]["reachable"] == 3
+    status, _, err = run(argv)
+    assert status == 2 and "--configuration: the configuration does not close the loops" in err
 
 
 ROBOT = Path(__file__).resolve().parents[1] / "data" / "robots" / "5bar_linkage"
