@@ -374,7 +374,9 @@ def _setting(manifold, point, basis, selection, rtol, scale, rank_rtol, max_orde
     hessian = _SecondDerivative.at(manifold, point, scales, jacobian.shape[0])
     tangent = basis / scales[:, None]
     selection_u = selection * scales
-    block = selection_u @ tangent
+    # = selection_u @ tangent, but computed as the second-order test and the classification compute it: a
+    # σ within rounding of the cut must get the same rank here as there
+    block = selection @ basis
     block_left, block_values, block_right = np.linalg.svd(block, full_matrices=True)
     actuator_scale = float(np.linalg.norm(selection_u, 2)) if scale is None else float(scale)
     rank = numerical_rank(block, rtol=rank_rtol, scale=actuator_scale).rank

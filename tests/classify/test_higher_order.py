@@ -398,3 +398,33 @@ def test_bad_orders_and_selections_are_refused():
         higher_order_test(graph(3), np.zeros(3), basis, GRAPH_SELECTION, [0, 1, 0], max_order=1)
     with pytest.raises(ValueError, match="selection"):
         higher_order_test(graph(3), np.zeros(3), basis, GRAPH_SELECTION[:, :2], [0, 1, 0])
+
+
+#: a configuration of the Eclipse near Fig. 10's, where σ₂ of the unit actuator block on T is 1e-6 of its scale to
+#: rounding: exactly at the cut (found by bisection along a path on M crossing the actuator singularity)
+AT_THE_CUT = [
+    2.0677394918124718e-07, 1.0954344814499358e-06, 7.29388496218089e-07, 0.9999999999967475,
+    1.841846160090856e-06, 1.7641969733220122e-06, -1.841844404525055e-06, 0.9999999999978086,
+    -9.951086993479149e-07, -1.764198806155283e-06, 9.951054499683547e-07, 0.9999999999979485,
+    2.588938865816524e-06, 2.116983138616063e-06, -5.585911327957966e-07, 0.9999999999902591,
+    4.224011015727672e-06, 1.2804422289982878e-06, -4.2240110331082206e-06, 0.9999999999910788,
+    1.357116065887676e-08, -1.2804421716621323e-06, -1.3576569260847113e-08, 0.9999999999991802,
+    -2.175405463341844e-06, -1.744014315180942e-07, 1.405237249899996e-06, 0.9999999999997042,
+    -5.403340033339427e-07, 5.472264495538547e-07, 5.403345332320892e-07, 0.9999999999993852,
+    -9.68334625446214e-07, -5.472259263293936e-07, 9.68334921131276e-07, 0.9999999999993814,
+]
+
+
+def test_a_configuration_at_the_cut_gets_one_rank_in_every_test():
+    """The higher-order test recomputed the actuator block as (Dπ·s)(T/s): at a σ within rounding of the cut
+    its rank could differ from the classification's, and classify raised 'Expected an actuator singularity …,
+    got rank G = m'. Whichever side of the cut rounding puts σ on, every test now takes the same one."""
+    from classify import classify, classify_many
+
+    model = model_of(entry("eclipse").mechanism("fig10_actuator"))
+    point = np.array(AT_THE_CUT)
+    report = classify(model, point)
+    decision = report.actuator.decision
+    assert abs(decision.singular_values[-1] / decision.tolerance - 1.0) < 1e-8  # the point is at the cut
+    assert (report.second_order is not None) == report.actuator.singular
+    assert classify_many(model, point[None]).kinds(0) == report.kinds
