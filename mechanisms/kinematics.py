@@ -53,7 +53,7 @@ from __future__ import annotations
 
 import math
 import weakref
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Optional
 
 import numpy as np
@@ -70,7 +70,7 @@ __all__ = [
     "constraint", "constraint_jacobian", "closure_and_jacobian", "constraint_hessian", "closes",
     "constraint_pattern", "constraint_jacobian_entries", "constraint_hessian_form",
     "end_effector", "end_effector_jacobian", "end_effector_hessian", "end_effector_chart",
-    "end_effector_dimension", "actuator_jacobian", "link_pose", "tool_basis",
+    "end_effector_dimension", "actuator_jacobian", "link_pose", "tool_basis", "loop_origin",
 ]
 
 
@@ -131,15 +131,20 @@ def kinematics_of(mechanism):
             factors.append(factor)
             scales.append(length if factor == "R" else 1.0)
     ambient = AmbientSpace(tuple(factors), tuple(scales))
-    joint_elements, point_parts, factor_index, tangent_start = [], {}, 0, 0
+    origin = loop_origin(mechanism)
+    joint_elements, loop_elements, point_parts, factor_index, tangent_start = [], [], {}, 0, 0
     for joint in mechanism.joints:
         count = len(joint_factors(joint))
         parts = ambient.point_slices[factor_index: factor_index + count]
         point_parts[joint.name] = parts
         joint_elements.append(chains.elements_of_joint(mechanism, joint, parts, tangent_start))
+        loop_elements.append(joint_elements[-1] if origin is None or joint.point is None else
+                             chains.elements_of_joint(mechanism, replace(joint, point=tuple(
+                                 float(value) for value in np.subtract(joint.point, origin))), parts, tangent_start))
         factor_index += count
         tangent_start += sum(3 if f == "SO3" else 1 for f in joint_factors(joint))
-    loops, chords, link_chains = chains.chains_of(mechanism, joint_elements)
+    loops, chords, _ = chains.chains_of(mechanism, loop_elements)
+    _, _, link_chains = chains.chains_of(mechanism, joint_elements)
     loop_groups = chains.groups_of(mechanism.space, loops)
     end_effector = mechanism.end_effector
     compiled = Kinematics(
@@ -156,6 +161,32 @@ def kinematics_of(mechanism):
     )
     _CACHE[mechanism] = compiled
     return compiled
+
+
+def loop_origin(mechanism):
+    """The point the loop closures Φ are written about, shape=[2] or [3], or None (the base frame's origin).
+
+    The centroid of the joint points the ground link carries (of every joint
+    point at home when the ground carries none). It is fixed in the ground,
+    so it moves with the base frame and not with the home configuration,
+    the joint zeros or the axis signs: Φ's translation rows, the velocities
+    of the loop's closing point there, then change with the base frame only
+    by a rotation, and the singular values of DΦ (the C-space rank's cut and
+    margins) not at all. About the base frame's origin, a base frame 100
+    lengths away would scale the translation rows by about 100 and move
+    the cut. None for a spherical mechanism (no translation rows), and where
+    the centroid is the base frame's origin to rounding (within 64 ε of the
+    characteristic length: a base centred on its joints, as most are, keeps
+    its twists exactly as written).
+    """
+    if mechanism.space == "spherical":
+        return None
+    points = [joint.point for joint in mechanism.joints if joint.point is not None and mechanism.ground in joint.links]
+    points = points or [joint.point for joint in mechanism.joints if joint.point is not None]
+    if not points:
+        return None
+    centroid = np.mean(np.asarray(points, dtype=float), axis=0)
+    return None if np.linalg.norm(centroid) <= 64 * np.finfo(float).eps * mechanism.characteristic_length else centroid
 
 
 def _link_group(compiled, link):
