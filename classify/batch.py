@@ -358,7 +358,7 @@ def _first_order(model, points, survey, rtol, offset, columns=None):
     # below the survey's largest rank of DΦ: a possible C-space singularity; or where the arithmetic cannot
     # vouch for the decision or the margin: classified one at a time
     full = ((constraint_ranks < survey.constraint_rank)
-            | _unsure(constraint_values, constraint_ranks, constraint_tolerance,
+            | _unsure(constraint_margins, constraint_tolerance,
                       np.finfo(float).eps * (constraint_values[:, 0] if constraint_values.shape[1] else 0.0)))
     if columns is None:
         columns = _empty_columns(model, count)
@@ -415,19 +415,24 @@ def basis_error(constraint_values, ranks, amplification=1.0):
     return np.finfo(float).eps * condition
 
 
-def _unsure(values, ranks, tolerance, error):
-    """Configurations whose decision on `values` (stacks of singular values, shape=[b, s], with their ranks
-    and cuts) could differ from a single call's, or whose smallest kept value is not known to
-    :data:`VALUE_ACCURACY`: a σ within ``CUT_BAND·cut + error`` of the cut, or ``error`` above
-    VALUE_ACCURACY of the smallest kept σ; `error` (shape=[b], or a scalar) bounds the difference between
-    the batch's values and the single call's. Shape=[b]."""
-    tolerance = np.broadcast_to(tolerance, values.shape[:1])
-    error = np.broadcast_to(error, values.shape[:1])
-    near = np.any(np.abs(values - tolerance[:, None]) <= (CUT_BAND * tolerance + error)[:, None], axis=1)
-    rows = np.arange(len(values))
-    kept = values[rows, np.maximum(ranks - 1, 0)] if values.shape[1] else np.zeros(len(values))
-    loose = (ranks > 0) & ~(error <= VALUE_ACCURACY * kept)
-    return near | loose
+def _unsure(margins, tolerance, error, reported=True):
+    """Configurations whose decision could differ from a single call's, or whose value is not known to
+    :data:`VALUE_ACCURACY`, shape=[b].
+
+    The σ's nearest the cut are the decision's margins (shape=[b, 2], from
+    :func:`_decisions`: the smallest kept, the largest dropped): unsure where
+    one lies within ``CUT_BAND·cut + error`` of the cut, or (where the values
+    are `reported`) where `error` exceeds VALUE_ACCURACY of the kept one.
+    `error` (shape=[b], or a scalar) estimates how far the batch's σ's may be
+    from a single call's.
+    """
+    tolerance = np.broadcast_to(tolerance, margins.shape[:1])
+    error = np.broadcast_to(error, margins.shape[:1])
+    near = np.any(np.abs(margins - tolerance[:, None]) <= (CUT_BAND * tolerance + error)[:, None], axis=1)  # NaN: no
+    if not reported:
+        return near
+    kept = margins[:, 0]
+    return near | (np.isfinite(kept) & ~(error <= VALUE_ACCURACY * kept))
 
 
 def _constraint_values(jacobian, rtol):
@@ -627,9 +632,8 @@ def _regular_columns(model, points, basis, constraint_rank, survey, rtol, column
     unit_actuators, actuator_scale = unit_actuator_rows(model)
     actuator_tolerance = max(rtol * actuator_scale, DEFAULT_ATOL)
     actuator_block = unit_actuators @ basis  # [g, a, m]
-    actuator_values = singular_values(actuator_block)
-    actuator_ranks, actuator_margins = _decisions(actuator_values, actuator_tolerance)
-    unsure = _unsure(actuator_values, actuator_ranks, actuator_tolerance, actuator_scale * error)
+    actuator_ranks, actuator_margins = _decisions(singular_values(actuator_block), actuator_tolerance)
+    unsure = _unsure(actuator_margins, actuator_tolerance, actuator_scale * error)
     n = model.end_effector_dimension
     if n:
         end_effector_jacobian = np.broadcast_to(model.end_effector_jacobian(points), (count, n, k))
@@ -637,20 +641,18 @@ def _regular_columns(model, points, basis, constraint_rank, survey, rtol, column
         end_effector_scale = _largest(end_effector_rows * scales)
         end_effector_tolerance = np.maximum(rtol * end_effector_scale, DEFAULT_ATOL)
         end_effector_block = end_effector_rows @ basis
-        end_effector_values = singular_values(end_effector_block)
-        end_effector_ranks, end_effector_margins = _decisions(end_effector_values, end_effector_tolerance)
-        unsure |= _unsure(end_effector_values, end_effector_ranks, end_effector_tolerance,
-                          end_effector_scale * error)
+        end_effector_ranks, end_effector_margins = _decisions(singular_values(end_effector_block),
+                                                              end_effector_tolerance)
+        unsure |= _unsure(end_effector_margins, end_effector_tolerance, end_effector_scale * error)
     raised = constraint_rank > survey.constraint_rank
     if n and (raised or survey.joint_rank < dof):  # else the stacked rank cannot raise the survey's
         stacked = np.concatenate([
             actuator_block / max(actuator_scale, 1e-300),
             end_effector_block / np.maximum(end_effector_scale, 1e-300)[:, None, None]], axis=1)
         joint_tolerance = max(rtol, DEFAULT_ATOL)  # reference scale 1
-        joint_values = singular_values(stacked)
-        joint_ranks = _decisions(joint_values, joint_tolerance)[0]
+        joint_ranks, joint_margins = _decisions(singular_values(stacked), joint_tolerance)
         # the decision only (these values are not reported); the stacked rows have norms at most 1
-        unsure |= _unsure(joint_values, np.zeros(count, dtype=int), joint_tolerance, 2.0 * error)
+        unsure |= _unsure(joint_margins, joint_tolerance, 2.0 * error, reported=False)
     elif n:
         joint_ranks = np.zeros(count, dtype=int)
     # the survey raised to each configuration's own ranks (Survey.including), as classify does

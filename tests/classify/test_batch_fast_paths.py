@@ -162,15 +162,19 @@ def test_a_configuration_the_batch_cannot_vouch_for_is_classified_one_at_a_time(
 
 
 def test_unsure_flags_values_near_the_cut_and_values_not_known_to_the_accuracy():
-    values = np.array([[2.0, 1e-6 * (1 + 1e-9)],      # at the cut: a decision that could go either way
+    values = np.array([[2.0, 1e-6 * (1 + 1e-9)],      # kept, at the cut: a decision that could go either way
                        [2.0, 1e-5],                   # clear of the cut, known to ε·κ
                        [2.0, 1e-5],                   # clear of the cut, but the error estimate is large
-                       [2.0, 0.0]])                   # a clear rank drop
-    ranks = np.array([2, 2, 2, 1])
-    tolerance = np.full(4, 1e-6)
-    error = np.array([1e-16, 1e-16, 1e-13, 1e-16])
-    np.testing.assert_array_equal(batch_module._unsure(values, ranks, tolerance, error),
-                                  [True, False, True, False])
+                       [2.0, 0.0],                    # a clear rank drop
+                       [2.0, 1e-6 * (1 - 1e-9)],      # dropped, at the cut
+                       [0.0, 0.0]])                   # rank 0: nothing kept
+    tolerance = np.full(6, 1e-6)
+    error = np.array([1e-16, 1e-16, 1e-13, 1e-16, 1e-16, 1e-16])
+    _, margins = batch_module._decisions(values, tolerance)
+    np.testing.assert_array_equal(batch_module._unsure(margins, tolerance, error),
+                                  [True, False, True, False, True, False])
+    np.testing.assert_array_equal(batch_module._unsure(margins, tolerance, error, reported=False),
+                                  [True, False, False, False, True, False])
 
 
 def test_the_error_estimate_grows_with_the_condition_of_dphi_and_of_the_arrow_blocks():
