@@ -83,7 +83,8 @@ class Kinematics:
     space : str
     ambient : AmbientSpace
     loops : tuple
-        One chain per independent loop (chord of the spanning tree).
+        One chain per independent loop (chord of the spanning tree), its twists written about
+        :func:`loop_origin` (the link chains' about the base frame's origin).
     chords : tuple of str
         Names of the chord joints, one per loop.
     link_chains : Mapping
@@ -166,23 +167,29 @@ def kinematics_of(mechanism):
 def loop_origin(mechanism):
     """The point the loop closures Φ are written about, shape=[2] or [3], or None (the base frame's origin).
 
-    The centroid of the joint points the ground link carries (of every joint
-    point at home when the ground carries none). It is fixed in the ground,
-    so it moves with the base frame and not with the home configuration,
-    the joint zeros or the axis signs: Φ's translation rows, the velocities
-    of the loop's closing point there, then change with the base frame only
-    by a rotation, and the singular values of DΦ (the C-space rank's cut and
-    margins) not at all. About the base frame's origin, a base frame 100
-    lengths away would scale the translation rows by about 100 and move
-    the cut. None for a spherical mechanism (no translation rows), and where
-    the centroid is the base frame's origin to rounding (within 64 ε of the
-    characteristic length: a base centred on its joints, as most are, keeps
-    its twists exactly as written).
+    The centroid of the points fixed in the ground that its joints carry:
+    the points of its R, U and S joints (fixed in both of their links) and
+    of the C joints whose first link it is (a C joint's point slides along
+    its axis in its second link). It moves with the base frame and not with
+    the home configuration, the joint zeros or the axis signs: Φ's
+    translation rows, the velocities of the loop's closing point there, then
+    change with the base frame only by a rotation, and the singular values
+    of DΦ (the C-space rank's cut and margins) not at all. About the base
+    frame's origin, a base frame 100 lengths away would scale the
+    translation rows by about 100 and move the cut.
+
+    None for a spherical mechanism (no translation rows); where the ground
+    carries no such point (only P joints: nothing else in the ground is a
+    point, and the singular values of DΦ then still depend on where the
+    base frame is); and where the centroid is the base frame's origin to
+    rounding (within 64 ε of the characteristic length: a base centred on
+    its joints, as most are, keeps its twists exactly as written).
     """
     if mechanism.space == "spherical":
         return None
-    points = [joint.point for joint in mechanism.joints if joint.point is not None and mechanism.ground in joint.links]
-    points = points or [joint.point for joint in mechanism.joints if joint.point is not None]
+    ground = mechanism.ground
+    points = [joint.point for joint in mechanism.joints if joint.point is not None and ground in joint.links
+              and (joint.type in ("R", "U", "S") or joint.links[0] == ground)]
     if not points:
         return None
     centroid = np.mean(np.asarray(points, dtype=float), axis=0)
@@ -234,7 +241,8 @@ def constraint(mechanism, point):
     """Loop-closure map Φ(point), rows loop by loop, shape=[..., c].
 
     Rotation rows ``½ vee(R − Rᵀ)`` then translation rows over the
-    characteristic length, for each loop product R, p.
+    characteristic length, for each loop product R, p written about
+    :func:`loop_origin` (docs/conventions.rst, "Loop rows").
     """
     compiled = kinematics_of(mechanism)
     point = _as_points(mechanism, point)

@@ -80,6 +80,23 @@ def test_another_home_gives_the_same_classification(name):
                     classify(moved, home(moved), rng=np.random.default_rng(1)))
 
 
+@pytest.mark.parametrize("name", ["five-bar", "RSUR pose", "3-prr", "5-spu"])
+def test_the_singular_values_of_dphi_do_not_depend_on_the_home(name):
+    """The loop origin is fixed in the ground (:func:`mechanisms.kinematics.loop_origin`): taken from the
+    joint points at home, it moved with the home of the 3-PRR (its ground carries only P joints) and the cut
+    rtol·σ₁(DΦ·s) with it, by 2 %."""
+    from mechanisms import catalogue
+
+    rng = np.random.default_rng(32)
+    mechanism = built(name) if name in MECHANISMS else shared_mechanism(catalogue.entry(name).mechanism())
+    point = nearby_configuration(mechanism, rng, size=0.2)
+    reference = classify(mechanism, point, rng=np.random.default_rng(1)).cspace.decision
+    moved = rehome(mechanism, point)
+    decision = classify(moved, home(moved), rng=np.random.default_rng(1)).cspace.decision
+    np.testing.assert_allclose(decision.singular_values, reference.singular_values, rtol=1e-9,
+                               atol=1e-12 * reference.singular_values[0])
+
+
 @pytest.mark.parametrize("name", ["five-bar fig6a", "slider-crank fig3b", "slider-crank dead centre"])
 def test_singular_configuration_reached_from_a_regular_home(name):
     """The singular home described as a displacement from a regular home: same kinds."""
