@@ -37,7 +37,10 @@ methods of its cut, where a decision could go either way, or a value whose
 relative difference may exceed :data:`VALUE_ACCURACY` (near a singularity,
 where the tangent basis is ill-conditioned: :func:`basis_error`). So the
 batch equals repeated single calls, item by item: exactly there, and
-elsewhere by the same decisions on values that agree to 1e-9.
+elsewhere by the same decisions, on values that agree to 1e-9 where they are
+kept (the kept margins, and the λ's where G is definite and J of full rank);
+a value below a cut (a dropped margin, a λ of a rank-deficient J) is rounding
+noise of size ε·κ·scale in either computation, and agrees only to that.
 """
 
 from __future__ import annotations
@@ -240,8 +243,9 @@ def classify_many(mechanism, points, survey=None, rtol=DEFAULT_RTOL, length_scal
     Returns
     -------
     Classifications
-        Item i equals ``classify(model, points[i], survey=survey, rtol=rtol)``: the same kinds and ranks, the
-        same λ's to rounding.
+        Item i equals ``classify(model, points[i], survey=survey, rtol=rtol)``: the same kinds, ranks and
+        degeneracy, the kept margins and the λ's of a definite G and full-rank J to 1e-9 relative, values below
+        a cut to ε·κ(DΦ·s) of their scale (see the module notes).
 
     Raises
     ------
@@ -382,10 +386,15 @@ def _first_order(model, points, survey, rtol, offset, columns=None):
 #: error bound (:func:`_unsure`)
 CUT_BAND = 1e-8
 
-#: the largest estimate of the relative difference between a value of the batch (a kept σ, the margins, the λ's
-#: through them) and a single call's for which the batch's value stands (:func:`basis_error`); beyond it the
-#: configuration is classified one at a time
-VALUE_ACCURACY = 1e-9
+#: the largest estimate of the relative difference between a kept σ of the batch and a single call's for which
+#: the batch's values stand (:func:`basis_error`); beyond it the configuration is classified one at a time. Half
+#: the 1e-9 promised: the λ's and the condition number go as σ², with twice the σ's relative difference (values
+#: below a cut are noise of size ε·κ·scale in both)
+VALUE_ACCURACY = 5e-10
+
+#: rounding units of a block's scale by which the batch's and a single call's singular values of one block may
+#: differ beyond the tangent bases' difference (:func:`basis_error`; a fuzz measured 4.5)
+BLOCK_ROUNDING = 8.0
 
 #: the largest bound on the relative error of a singular value from the Gram matrix (:func:`_gram_values`)
 GRAM_ACCURACY = 1e-10
@@ -405,14 +414,17 @@ def basis_error(constraint_values, ranks, amplification=1.0):
     difference measured. The block-arrow solves (:func:`_arrow_bases`) may
     err more, by up to the condition number of the loops' own blocks:
     `amplification` (shape=[b]) stands for κ(J) where it is larger. A
-    configuration without loops has the exact basis I (κ = 1).
+    configuration without loops has the exact basis I (κ = 1). To this the
+    estimate adds :data:`BLOCK_ROUNDING` ε, the rounding of a block's own
+    singular values (the batch's Jacobi sweeps or closed forms, the single
+    call's LAPACK), relative to the block's scale.
     """
     rows = np.arange(len(ranks))
     with np.errstate(divide="ignore", invalid="ignore"):
         kept = constraint_values[rows, np.maximum(ranks - 1, 0)] if constraint_values.shape[1] else np.ones(len(ranks))
         condition = np.where(ranks > 0, constraint_values[:, 0] / kept, 1.0) if constraint_values.shape[1] else kept
     condition = np.maximum(np.where(np.isfinite(condition), condition, np.inf), amplification)
-    return np.finfo(float).eps * condition
+    return np.finfo(float).eps * (condition + BLOCK_ROUNDING)
 
 
 def _unsure(margins, tolerance, error, reported=True):

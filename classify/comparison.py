@@ -384,8 +384,13 @@ def _names(given, field, default):
     """The names for the report: `given` (a sequence of as many strings as `default`), or `default`."""
     if given is None:
         return tuple(default)
-    if isinstance(given, str) or not all(isinstance(name, str) for name in given):
+    try:
+        names = None if isinstance(given, str) else tuple(given)
+    except TypeError:
+        names = None
+    if names is None or not all(isinstance(name, str) for name in names):
         raise TypeError(f"{field}: expected a sequence of names (str), got {given!r}")
+    given = names
     if len(given) != len(default):
         raise ValueError(f"{field}: {len(given)} names given, {len(default)} expected ({', '.join(default)})")
     return tuple(given)

@@ -65,8 +65,10 @@ def ordered_map(work, items, threads):
     failing item in order is the one reported, as in a plain loop); the items
     not yet started are then cancelled and the running ones awaited. Each
     item runs in a copy of the caller's context, so what the caller set in
-    context variables (:func:`numpy.errstate`, :func:`numpy.seterr`) holds in
-    every thread, as in a plain loop.
+    context variables holds in every thread, as in a plain loop: NumPy's
+    error state (:func:`numpy.errstate`, :func:`numpy.seterr`) from NumPy 2 on,
+    where it is one (before, it was per thread, and threads started with the
+    default).
     """
     if threads <= 1:
         yield from map(work, items)

@@ -13,7 +13,7 @@ from mechanisms import MechanismError, catalogue
 from ..text import printable
 
 __all__ = [
-    "MECHANISM_SUFFIXES", "COUNT_LIMIT", "SEED_LIMIT", "LENGTH_SCALE_RATIO", "PATH_STEP_RANGE",
+    "MECHANISM_SUFFIXES", "COUNT_LIMIT", "SEED_LIMIT", "THREAD_LIMIT", "LENGTH_SCALE_RATIO", "PATH_STEP_RANGE",
     "InputError", "Parser", "entry_options", "common_options", "displacements",
     "check_length_scale", "check_count", "check_path_step", "integer", "number", "is_entry", "path_exists",
     "entry_values", "threads_option", "warn_if_serial",
@@ -29,6 +29,8 @@ COUNT_LIMIT = 10_000
 SEED_LIMIT = 2 ** 64 - 1
 #: --length-scale within this factor of the mechanism's characteristic length, both ways
 LENGTH_SCALE_RATIO = 1e6  # = classify.metrics.LENGTH_SCALE_RATIO, here so that the command starts without NumPy
+#: most threads --threads may ask for (each holds a chunk of about 8 MiB of dense arrays and its temporaries)
+THREAD_LIMIT = 256
 #: --path-step range, in the dimensionless joint coordinates (radians; lengths over the characteristic length)
 PATH_STEP_RANGE = (1e-9, 1.0)
 
@@ -134,10 +136,12 @@ def survey_option(parser):
 
 
 def _threads(text):
-    """``--threads``: a positive integer, or -1 (every usable core)."""
+    """``--threads``: a positive integer up to :data:`THREAD_LIMIT`, or -1 (every usable core)."""
     value = integer(text)
-    if not (value >= 1 or value == -1):
-        raise argparse.ArgumentTypeError(f"expected a positive integer or -1 (every usable core), got {value}")
+    if not (1 <= value <= THREAD_LIMIT or value == -1):
+        shown = str(value) if len(str(value)) <= 40 else "a larger integer"
+        raise argparse.ArgumentTypeError(f"expected a positive integer up to {THREAD_LIMIT}, or -1 (every usable "
+                                         f"core), got {shown}")
     return value
 
 

@@ -154,6 +154,9 @@ def _connect(address):
         raise InputError(f"--scheduler: {shown} answers, but not as a Dask scheduler (another server on that "
                          f"port?)") from None
     try:
+        if not client.scheduler_info().get("workers"):
+            print(f"closedchain: the scheduler at {shown} has no worker yet: waiting up to {WORKER_WAIT:g} s",
+                  file=sys.stderr)
         client.wait_for_workers(1, timeout=WORKER_WAIT)
     except TimeoutError:
         client.close()

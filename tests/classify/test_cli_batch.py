@@ -416,7 +416,7 @@ def test_threads_reach_classify_many_and_do_not_change_the_output(tmp_path, caps
     assert outputs["1"] == outputs["2"] == outputs[None]
 
 
-@pytest.mark.parametrize("value", ["0", "-2", "two", "1.5"])
+@pytest.mark.parametrize("value", ["0", "-2", "two", "1.5", "257"])
 def test_bad_thread_counts_exit_2_naming_the_option(tmp_path, capsys, value):
     path = tmp_path / "rows.json"
     path.write_text("[{}]")
