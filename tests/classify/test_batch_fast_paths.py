@@ -183,3 +183,21 @@ def test_the_error_estimate_grows_with_the_condition_of_dphi_and_of_the_arrow_bl
     eps = np.finfo(float).eps
     rounding = batch_module.BLOCK_ROUNDING
     np.testing.assert_allclose(error, [(4 + rounding) * eps, (4e4 + rounding) * eps, (50 + rounding) * eps])
+
+
+def test_near_a_singularity_the_proper_values_agree_to_1e_9():
+    """Next to the five-bar's folded right leg (a point of the fuzz): the kept end-effector σ is 1e-6 of its
+    scale, and λ_min and the condition number (which go as σ²) differed by 1.06e-9 before the blocks' own
+    rounding entered the estimate."""
+    from classify import classify
+
+    model = model_of(catalogue.entry("five-bar").mechanism("eq3c_right_leg_folded"))
+    point = np.array([-2.501517909934548e-07, -1.019438175102217e-06, 3.4102625999264844e-06,
+                      -1.4478190534563681e-06, -6.928535803744442e-07])
+    report = classify(model, point)
+    result = classify_many(model, np.stack([point] * 80))
+    for index in (0, 79):
+        assert result.kinds(index) == report.kinds
+        np.testing.assert_allclose(result.eigenvalues[index], report.manipulability.eigenvalues, rtol=1e-9)
+        np.testing.assert_allclose(result.condition_number[index], report.manipulability.condition_number,
+                                   rtol=1e-9)
