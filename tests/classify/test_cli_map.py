@@ -326,7 +326,7 @@ def test_grid_errors_exit_2_with_one_line(grid, fragment):
     # an empty path was named '.'
     (["map", "", "--grid", "A=0:1:3"], "FILE|NAME: an empty path"),
     (["map", "five-bar", "--grid", "A=0:1:3", "--survey", ""], "--survey: an empty path"),
-    (["map", "five-bar", "--grid", "A=0:1:3", "--threads", "0"], "--threads: expected a positive integer or -1"),
+    (["map", "five-bar", "--grid", "A=0:1:3", "--threads", "0"], "--threads: expected a positive integer up to 256"),
     (["map", "five-bar", "--grid", "A=0:1:3", "--format", "json", "--out", "map.csv"],
      "--format: applies to what is printed"),  # was ignored
 ])
