@@ -359,11 +359,11 @@ def _first_order(model, points, survey, rtol, offset, columns=None):
     scales = model.manifold.ambient.tangent_scales
     constraint_values, constraint_tolerance = _constraint_values(jacobian, rtol)
     constraint_ranks, constraint_margins = _decisions(constraint_values, constraint_tolerance)
+    largest = constraint_values[:, 0] if constraint_values.shape[1] else np.zeros(count)  # σ₁(DΦ·s)
     # below the survey's largest rank of DΦ: a possible C-space singularity; or where the arithmetic cannot
     # vouch for the decision or the margin: classified one at a time
     full = ((constraint_ranks < survey.constraint_rank)
-            | _unsure(constraint_margins, constraint_tolerance,
-                      np.finfo(float).eps * (constraint_values[:, 0] if constraint_values.shape[1] else 0.0)))
+            | _unsure(constraint_margins, constraint_tolerance, np.finfo(float).eps * largest))
     if columns is None:
         columns = _empty_columns(model, count)
         columns["full"] = np.zeros(count, dtype=bool)
@@ -375,7 +375,7 @@ def _first_order(model, points, survey, rtol, offset, columns=None):
     for rank in np.unique(constraint_ranks[regular]):
         group = regular[constraint_ranks[regular] == rank]
         basis, amplification = _kernel_bases(jacobian[group], int(rank), structure)
-        error = basis_error(constraint_values[group], constraint_ranks[group], amplification)
+        error = basis_error(largest[group], constraint_margins[group, 0], amplification)
         full[group] |= _regular_columns(model, points[group], scales[:, None] * basis, int(rank), survey, rtol,
                                         columns, group, error)
     columns["full"][:] = full | columns["singular"][:, KINDS.index("actuator")]
@@ -400,9 +400,10 @@ BLOCK_ROUNDING = 8.0
 GRAM_ACCURACY = 1e-10
 
 
-def basis_error(constraint_values, ranks, amplification=1.0):
+def basis_error(largest, kept, amplification=1.0):
     """How far the batch's tangent bases may be from a single call's, as a fraction of unit length:
-    ``ε·κ(J)`` with ``κ(J) = σ₁/σ_r`` of ``J = DΦ·diag(s)`` (the smallest kept σ), shape=[b].
+    ``ε·κ(J)`` with ``κ(J) = σ₁/σ_r`` of ``J = DΦ·diag(s)``, from its largest σ and its smallest kept σ
+    (shape=[b] each; NaN where none is kept), shape=[b].
 
     Two backward-stable methods (the single call's SVD, the batch's QR) give
     the kernels of ``J + δJ`` with ``|δJ|`` of the order of ``ε σ₁(J)``,
@@ -419,12 +420,9 @@ def basis_error(constraint_values, ranks, amplification=1.0):
     singular values (the batch's Jacobi sweeps or closed forms, the single
     call's LAPACK), relative to the block's scale.
     """
-    rows = np.arange(len(ranks))
     with np.errstate(divide="ignore", invalid="ignore"):
-        kept = constraint_values[rows, np.maximum(ranks - 1, 0)] if constraint_values.shape[1] else np.ones(len(ranks))
-        condition = np.where(ranks > 0, constraint_values[:, 0] / kept, 1.0) if constraint_values.shape[1] else kept
-    condition = np.maximum(np.where(np.isfinite(condition), condition, np.inf), amplification)
-    return np.finfo(float).eps * (condition + BLOCK_ROUNDING)
+        condition = np.where(np.isnan(kept), 1.0, largest / kept)  # no loop rows, or nothing kept: the basis I
+    return np.finfo(float).eps * (np.maximum(condition, amplification) + BLOCK_ROUNDING)
 
 
 def _unsure(margins, tolerance, error, reported=True):

@@ -178,8 +178,8 @@ def test_unsure_flags_values_near_the_cut_and_values_not_known_to_the_accuracy()
 
 
 def test_the_error_estimate_grows_with_the_condition_of_dphi_and_of_the_arrow_blocks():
-    values = np.array([[4.0, 2.0, 1.0], [4.0, 2.0, 1e-4], [4.0, 2.0, 1.0]])
-    error = batch_module.basis_error(values, np.array([3, 3, 2]), np.array([1.0, 1.0, 50.0]))
+    error = batch_module.basis_error(np.array([4.0, 4.0, 4.0]), np.array([1.0, 1e-4, 2.0]),
+                                     np.array([1.0, 1.0, 50.0]))
     eps = np.finfo(float).eps
     rounding = batch_module.BLOCK_ROUNDING
     np.testing.assert_allclose(error, [(4 + rounding) * eps, (4e4 + rounding) * eps, (50 + rounding) * eps])
