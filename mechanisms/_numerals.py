@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import re
 
-__all__ = ["decimal_number", "decimal_integer", "underflows", "Underflow"]
+__all__ = ["decimal_number", "decimal_integer", "exact_float", "Underflow"]
 
 _DECIMAL = re.compile(r"[+-]?(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][+-]?\d+)?", re.ASCII)
 _WORD = re.compile(r"[+-]?(?:inf|infinity|nan)", re.ASCII | re.IGNORECASE)
@@ -38,15 +38,22 @@ def decimal_number(text):
         return float(stripped)
     if not _DECIMAL.fullmatch(stripped):
         raise ValueError(f"expected a number, got {text[:40]!r}")
-    value = float(stripped)
-    if underflows(stripped, value):
-        raise Underflow(f"{stripped} is nonzero but below the smallest float (it would read as 0)")
+    return exact_float(stripped)
+
+
+def exact_float(text):
+    """``float(text)`` of a decimal literal (as JSON and YAML write numbers), refusing one that names a nonzero
+    number below the smallest float.
+
+    Raises
+    ------
+    Underflow
+        "{text} is nonzero but below the smallest float (it would read as 0)".
+    """
+    value = float(text)
+    if value == 0.0 and re.search(r"[1-9]", re.split(r"[eE]", text)[0]):
+        raise Underflow(f"{text} is nonzero but below the smallest float (it would read as 0)")
     return value
-
-
-def underflows(text, value):
-    """Whether the decimal `text`, read as the float `value`, names a nonzero number that rounded to 0."""
-    return value == 0.0 and re.search(r"[1-9]", re.split(r"[eE]", text)[0]) is not None
 
 
 def decimal_integer(text):

@@ -24,7 +24,7 @@ import numpy as np
 import yaml
 
 from .errors import MechanismError
-from ._numerals import Underflow, underflows
+from ._numerals import Underflow, exact_float
 
 
 #: largest file read, in bytes (1 MiB)
@@ -307,11 +307,10 @@ def _construct_float(loader, node):
         return -math.inf if text.startswith("-") else math.inf
     if lowered == ".nan":
         return math.nan
-    value = float(text)
-    if underflows(text, value):
-        raise yaml.constructor.ConstructorError(
-            None, None, f"{text} is nonzero but below the smallest float (it would read as 0)", node.start_mark)
-    return value
+    try:
+        return exact_float(text)
+    except Underflow as error:
+        raise yaml.constructor.ConstructorError(None, None, str(error), node.start_mark) from None
 
 
 _Loader.yaml_implicit_resolvers = {
@@ -360,13 +359,6 @@ def _json_integer(text):
     return int(text)
 
 
-def _json_float(text):
-    value = float(text)
-    if underflows(text, value):
-        raise Underflow(f"{text} is nonzero but below the smallest float (it would read as 0)")
-    return value
-
-
 def _json_object(pairs):
     data = {}
     for key, value in pairs:
@@ -379,7 +371,7 @@ def _json_object(pairs):
 #: decodes JSON refusing duplicate keys (:class:`DuplicateKey`), integers of more than
 #: :data:`DIGITS_LIMIT` digits (:class:`TooManyDigits`) and nonzero numbers below the smallest float
 #: (:class:`mechanisms._numerals.Underflow`, a ValueError); ``raw_decode`` reads one value of a longer text
-JSON_DECODER = json.JSONDecoder(object_pairs_hook=_json_object, parse_int=_json_integer, parse_float=_json_float)
+JSON_DECODER = json.JSONDecoder(object_pairs_hook=_json_object, parse_int=_json_integer, parse_float=exact_float)
 
 
 def _nesting_depth_exceeds(data, limit):
