@@ -390,10 +390,9 @@ def _names(given, field, default):
         names = None
     if names is None or not all(isinstance(name, str) for name in names):
         raise TypeError(f"{field}: expected a sequence of names (str), got {given!r}")
-    given = names
-    if len(given) != len(default):
-        raise ValueError(f"{field}: {len(given)} names given, {len(default)} expected ({', '.join(default)})")
-    return tuple(given)
+    if len(names) != len(default):
+        raise ValueError(f"{field}: {len(names)} names given, {len(default)} expected ({', '.join(default)})")
+    return names
 
 
 def sample_configurations(model, count, rng, starts=None):

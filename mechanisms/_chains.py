@@ -229,7 +229,7 @@ def loop_pattern(space, loop_groups, loop_count, dim):
     return JacobianPattern((rows_per_loop * loop_count, dim), rows, columns)
 
 
-def chains_of(mechanism, joint_elements):
+def chains_of(mechanism, joint_elements, loop_elements=None):
     """The loops of a mechanism and the paths to its links, along a spanning tree of its joint graph.
 
     The tree is grown by breadth-first search from the ground, joints in file
@@ -242,6 +242,9 @@ def chains_of(mechanism, joint_elements):
     mechanism : Mechanism
     joint_elements : list of list of Element
         The forward elements of each joint, in file order (:func:`elements_of_joint`).
+    loop_elements : list of list of Element, optional
+        The same, for the loops (written about another origin, :func:`mechanisms.kinematics.loop_origin`);
+        default `joint_elements`.
 
     Returns
     -------
@@ -278,7 +281,7 @@ def chains_of(mechanism, joint_elements):
             continue
         first, second = branches(parents, depths, *joint.links)
         steps = first + [(index, True)] + [(i, not forward) for i, forward in reversed(second)]
-        loops.append(traverse(joint_elements, steps))
+        loops.append(traverse(joint_elements if loop_elements is None else loop_elements, steps))
         chords.append(joint.name)
     link_chains = LinkChains(lambda link: traverse(joint_elements, tree_path(parents, link)), tuple(parents))
     return tuple(loops), tuple(chords), link_chains

@@ -144,8 +144,7 @@ def kinematics_of(mechanism):
                                  float(value) for value in np.subtract(joint.point, origin))), parts, tangent_start))
         factor_index += count
         tangent_start += sum(3 if f == "SO3" else 1 for f in joint_factors(joint))
-    loops, chords, _ = chains.chains_of(mechanism, loop_elements)
-    _, _, link_chains = chains.chains_of(mechanism, joint_elements)
+    loops, chords, link_chains = chains.chains_of(mechanism, joint_elements, loop_elements)
     loop_groups = chains.groups_of(mechanism.space, loops)
     end_effector = mechanism.end_effector
     compiled = Kinematics(
