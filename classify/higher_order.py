@@ -45,6 +45,24 @@ the range(L_v)-part of o_j, and the obstruction at order j is what remains,
 ``(I − L_v L_v⁺) o_j``. For dim K = 1, K ⊖ v = 0: the obstruction is a
 number per direction e of C.
 
+When L_v has a kernel N on K ⊖ v (a double root v, e.g. a root inside a
+plane of roots), the component n ∈ N of k_{j−2} is still free after order
+j − 1 (it changes o_{j−1} by L_v n = 0) and enters o_j: quadratically for
+j = 4 (½ B(n, n) and the cross terms with x₂), linearly above. Setting it
+to zero leaves an obstruction that depends on the root direction and on
+nothing else (at the Gough–Stewart's eq. 87 it ranged over 1e-9 … 5e-7 around
+the circle of roots, on the order of the cut, so the verdict depended on
+which root a search found). At order j ≥ 4 this n is therefore chosen to
+minimise the obstruction left after cancelling range(L_v): the obstruction
+is measured at n = 0, ±eᵢ, eᵢ + eⱼ, which determines the quadratic exactly,
+and Gauss–Newton from each of those points finds the least-norm n among the
+best; it is kept only when it lowers the obstruction by more than the
+fits' noise, and what it changes in o_{j−1} (zero to the cut of L_v) is
+added to the noise. A free component that enters first at a later order
+(e.g. the fibre b = a³ in z = (b − a³)², where n of x₃ enters o₆) is not
+searched: the obstruction is then reported, and with L_v not injective it
+is "undecidable", never "isolated".
+
 **What "isolated at order s" certifies.** Park & Kim (1999, eqs. 9-10) call
 p̄ nondegenerate when it is isolated in its fibre π⁻¹(π(p̄)); their Hessian
 test is only sufficient and fails at every actuator singularity
@@ -151,7 +169,7 @@ from typing import Optional
 import numpy as np
 from numpy.polynomial import chebyshev
 
-from manifold import hessian_form, numerical_rank
+from manifold import hessian_form, numerical_rank, rank_of_values
 from manifold import implicit
 
 from .sphere_minima import distinct_directions, sphere_minima
@@ -468,6 +486,127 @@ def _refine_root(setting, direction):
     return direction
 
 
+def _polar_split(setting, polar):
+    """Orthonormal bases of range(L_v) (C coordinates) and of ker L_v (K ⊖ v coordinates), singular values
+    ≤ rtol·σ_S·μ counted as zero (the cut of :meth:`_Setting.solve`), shapes [dim C, r] and [κ − 1, d]."""
+    if not polar.size:
+        return np.zeros((polar.shape[0], 0)), np.zeros((polar.shape[1], 0))
+    left, values, right = np.linalg.svd(polar, full_matrices=True)
+    rank = rank_of_values(values, rtol=setting.rtol, scale=setting.actuator_scale * setting.curvature_scale).rank
+    return left[:, :rank], right[rank:].T
+
+
+def _relative_height(setting, heights, order, curve):
+    """ρ of a t^order height coefficient `heights` (C coordinates) of the curve's first order − 1 terms."""
+    scale = float(_natural_scale(setting, curve[:order - 1]))
+    return float(np.linalg.norm(heights)) / (setting.actuator_scale * scale ** (order - 1))
+
+
+@dataclass(frozen=True)
+class _QuadraticResidual:
+    """r(n) = c + A n + ½ H(n, n), a vector-valued quadratic (c [e], A [e, d], H [e, d, d])."""
+
+    centre: np.ndarray
+    linear: np.ndarray
+    quadratic: np.ndarray
+
+    def value(self, point):
+        return self.centre + self.linear @ point + 0.5 * np.einsum("eij,i,j->e", self.quadratic, point, point)
+
+    def slope(self, point):
+        return self.linear + np.einsum("eij,j->ei", self.quadratic, point)
+
+    def descend(self, start, steps=32):
+        """Gauss–Newton from `start` with least-norm steps (singular values below 1e-6 σ₁ of the slope cut, so
+        no step goes along a direction the residual does not see), halved while they do not reduce |r|."""
+        point, size = np.array(start, dtype=float), float(np.linalg.norm(self.value(start)))
+        for _ in range(steps):
+            step = -np.linalg.pinv(self.slope(point), rcond=1e-6) @ self.value(point)
+            for _ in range(8):
+                trial = float(np.linalg.norm(self.value(point + step)))
+                if trial < size:
+                    break
+                step = 0.5 * step
+            else:
+                return point
+            point, size = point + step, trial
+        return point
+
+
+def _choose_loose_part(setting, curve, v, image, loose, order):
+    """The component n ∈ N = ker L_v ⊖ v of x_{j−2} (j = `order`) that minimises the order-j obstruction.
+
+    A component n of x_{j−2} in N leaves o_{j−1} unchanged to first order (L_v n ≈ 0) but enters o_j:
+    quadratically for j = 4 (½ B(n, n) and the terms of x₂), linearly above (module Notes). The
+    obstruction left after cancelling range(L_v) is measured at n = 0, ±eᵢ and eᵢ + eⱼ (units of the
+    natural size λ^{j−3} of x_{j−2}), which determines this quadratic exactly. Gauss–Newton from each
+    of those points, the least-norm n among the best found, measured again, is kept when it lowers the
+    obstruction by more than NOISE_FACTOR × the fits' error bound; otherwise n = 0.
+
+    Parameters
+    ----------
+    curve : ndarray, shape=[j − 1, k]
+        x₁, …, x_{j−1} in u, x_{j−1} without its free component.
+    v : ndarray, shape=[k]
+    image : ndarray, shape=[dim C, r]
+        Orthonormal basis of range(L_v) (:func:`_polar_split`).
+    loose : ndarray, shape=[k, d]
+        Orthonormal basis of N in u.
+
+    Returns
+    -------
+    curve : ndarray, shape=[j − 1, k]
+        With n added to x_{j−2} and the normal part it brings to x_{j−1}.
+    moved : ndarray, shape=[dim C]
+        The change of the order-(j − 1) obstruction, C^T S_u J⁺ D²Φ(v, n) (zero to the cut of L_v).
+    """
+    count = loose.shape[1]
+    bend = -setting.pseudo_inverse @ setting.hessian.form(v[:, None], loose)[:, 0, :]   # x_{j−1}'s normal part, [k, d]
+    follow = bend - setting.lift @ (setting.selection @ bend)
+    step = float(_natural_scale(setting, curve)) ** (order - 3)
+
+    def shifted(points):                                                                # points [b, d] → curves [b, j−1, k]
+        curves = np.repeat(curve[None], len(points), axis=0)
+        curves[:, order - 3] += step * points @ loose.T
+        curves[:, order - 2] += step * points @ follow.T
+        return curves
+
+    heights = setting.complement.T @ setting.selection @ setting.pseudo_inverse                     # [dim C, c]
+
+    def residuals(points):
+        """o_j off range(L_v) at n = step·points, [b, dim C], and NOISE_FACTOR × the largest fit error."""
+        values, errors = _constraint_coefficients(setting, shifted(points), order)
+        raw = -values[:, order] @ heights.T
+        floor = np.linalg.norm(heights, 2) * float(np.max(np.linalg.norm(errors[:, order], axis=-1)))
+        return raw - (raw @ image) @ image.T, NOISE_FACTOR * floor
+
+    unit = np.eye(count)
+    pairs = [(i, j) for i in range(count) for j in range(i + 1, count)]
+    points = np.concatenate([np.zeros((1, count)), unit, -unit]
+                            + ([np.array([unit[i] + unit[j] for i, j in pairs])] if pairs else []))
+    measured, floor = residuals(points)
+    centre, plus, minus = measured[0], measured[1:count + 1], measured[count + 1:2 * count + 1]
+    if not np.linalg.norm(centre) > floor:
+        return curve, np.zeros(centre.size)
+    linear = 0.5 * (plus - minus).T                                                     # [dim C, d]
+    quadratic = np.zeros((centre.size, count, count))
+    quadratic[:, range(count), range(count)] = (plus + minus - 2 * centre).T
+    for (i, j), value in zip(pairs, measured[2 * count + 1:]):
+        mixed = value - centre - linear[:, i] - linear[:, j] - 0.5 * (quadratic[:, i, i] + quadratic[:, j, j])
+        quadratic[:, i, j] = quadratic[:, j, i] = mixed
+    model = _QuadraticResidual(centre, linear, quadratic)
+    found = np.array([model.descend(start) for start in points])
+    checked, _ = residuals(found)
+    sizes = np.linalg.norm(checked, axis=-1)
+    good = np.flatnonzero(sizes <= max(floor, float(np.min(sizes))))
+    best = good[np.argmin(np.linalg.norm(found[good], axis=-1))]
+    if not sizes[best] + floor < np.linalg.norm(centre):                               # a reduction beyond the fits' noise
+        return curve, np.zeros(centre.size)
+    chosen = found[best]
+    moved = step * (setting.complement.T @ setting.selection @ bend @ chosen)
+    return shifted(chosen[None])[0], moved
+
+
 def _result(verdict, order, obstruction, tolerance, coefficients, reason, noise, setting, scale):
     return HigherOrderResult(verdict, int(order), float(obstruction), float(tolerance),
                              np.array(coefficients) * setting.scales, reason, float(noise),
@@ -481,14 +620,20 @@ def _formal_curve(setting, direction, max_order):
         direction = _refine_root(setting, direction)
     others = _orthogonal_complement(direction) if dimension > 1 else np.zeros((1, 0))
     polar = np.einsum("eij,i,jn->en", setting.forms, direction, others, optimize=True)  # L_v on K ⊖ v
-    injective = numerical_rank(polar, rtol=setting.rtol, scale=setting.actuator_scale
-                               * setting.curvature_scale).rank == polar.shape[1] if polar.size else True
+    image, null = _polar_split(setting, polar)
+    loose = setting.kernel @ others @ null                                              # N = ker L_v ⊖ v in u
+    injective = loose.shape[1] == 0
     v = setting.kernel @ direction
     coefficients = [v]
     accepted = 0.0
+    last = np.zeros(setting.complement.shape[1])                                         # o_{j−1}, C coordinates
     for order in range(2, max_order + 1):
         curve = np.array(coefficients)
+        if order > 3 and not injective:
+            curve, moved = _choose_loose_part(setting, curve, v, image, loose, order)
+            accepted = max(accepted, _relative_height(setting, last + moved, order - 1, curve))
         scale = float(_natural_scale(setting, curve))
+        coefficients = list(curve)
         if order == 2:
             remainder = 0.5 * setting.hessian.form(v[:, None], v[:, None])[:, 0, 0]
             noise = 0.0
@@ -504,8 +649,8 @@ def _formal_curve(setting, direction, max_order):
             remainder = remainder + setting.hessian.form(v[:, None], (setting.kernel @ free)[:, None])[:, 0, 0]
         normal = -setting.pseudo_inverse @ remainder
         actuators = setting.selection @ normal
-        obstruction = float(np.linalg.norm(setting.complement.T @ actuators)) / (
-            setting.actuator_scale * scale ** (order - 1))
+        last = setting.complement.T @ actuators
+        obstruction = float(np.linalg.norm(last)) / (setting.actuator_scale * scale ** (order - 1))
         tolerance = max(setting.rtol, NOISE_FACTOR * noise)
         curve = np.array(coefficients)
         if obstruction > tolerance:

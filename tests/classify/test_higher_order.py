@@ -12,7 +12,7 @@ import sympy
 from scipy.optimize import least_squares
 from scipy.spatial.transform import Rotation
 
-from classify.higher_order import HIGHER_ORDER_RTOL, higher_order_test, taylor_coefficients
+from classify.higher_order import HIGHER_ORDER_RTOL, NOISE_FACTOR, higher_order_test, taylor_coefficients
 from classify.model import model_of
 from classify.second_order import second_order_test
 from manifold import AmbientSpace, ImplicitManifold, tangent_basis
@@ -267,6 +267,28 @@ def test_a_cuspidal_fibre_is_never_called_isolated():
     assert "cusp" in result.reason
 
 
+@pytest.mark.parametrize("rotation_seed", [None, 1, 2])
+def test_a_double_root_gets_the_free_component_in_the_kernel_of_L_v(rotation_seed):
+    """z = (b − a²)², π = z: Q = 2 db² on K = T₀M, the root v = ∂_a is double (L_v = B(v, ·) = 0 on K ⊖ v)
+    and the fibre is the parabola b = a². Its formal curve (t, t², 0) needs the component n of x₂ along
+    ker L_v = ∂_b, which enters first at order 4: o₄ = (n − 1)². With n = 0 it was "undecidable at 4"."""
+    manifold = flat_toy("a b z", [Z - (B - A ** 2) ** 2])
+    result = run(manifold, np.zeros(3), np.array([[0, 0, 1.0]]), [1.0, 0, 0], rotation_seed=rotation_seed,
+                 max_order=6)
+    assert (result.verdict, result.order) == ("unobstructed", 6)
+    np.testing.assert_allclose(result.coefficients[1], [0, 1, 0], atol=1e-6)  # o₄ = (n − 1)²: n to √ε only
+    assert fibre_residual(manifold, np.zeros(3), np.array([[0, 0, 1.0]]), result.coefficients, 0.1) < 1e-12
+
+
+def test_a_free_component_entering_later_is_not_searched_and_never_makes_an_isolated_point():
+    """z = (b − a³)²: the fibre b = a³ needs n = 1 in x₃, which enters first at order 6 (module Notes, the
+    limit of the search): the obstruction stays, and with L_v not injective it is "undecidable"."""
+    manifold = flat_toy("a b z", [Z - (B - A ** 3) ** 2])
+    result = run(manifold, np.zeros(3), np.array([[0, 0, 1.0]]), [1.0, 0, 0], max_order=6)
+    assert (result.verdict, result.order) == ("undecidable", 6)
+    assert "not injective" in result.reason
+
+
 # ----------------------------------------------------------------------------- Park & Kim Fig. 10
 
 
@@ -366,6 +388,25 @@ def test_degenerate_catalogue_configurations_are_unobstructed(name, configuratio
     assert (result.verdict, result.order) == ("unobstructed", 6)
     assert result.obstruction <= result.tolerance
     assert fibre_residual(model.manifold, point, model.actuators, result.coefficients, 0.05) < 1e-5
+
+
+def test_gough_stewart_eq87_verdict_does_not_depend_on_rounding_the_basis_or_the_root_search():
+    """GS eq. 87: the roots form a plane (the platform's translational self-motion), each a double root, so the
+    free component of x₂ in ker L_v decides o₄. Left at zero, o₄ ranged over 1e-9 … 5e-7 around the circle
+    of roots and 6 of 30 such runs gave "undecidable at order 5 or 6" (a root direction, a rounding of p̄ or
+    a turn of T changed the verdict). Chosen (module Notes), every run is unobstructed with a wide margin."""
+    mechanism = entry("gough-stewart").mechanism("eq87_parallel_legs")
+    model = model_of(mechanism)
+    for seed in range(12):
+        rng = np.random.default_rng(seed)
+        point = home(mechanism) * (1 + 1e-15 * rng.standard_normal(home(mechanism).shape))
+        basis, _ = tangent_basis(model.manifold, point)
+        second = second_order_test(model.manifold, point, basis, model.actuators, np.random.default_rng(seed))
+        turn = np.linalg.qr(rng.standard_normal((basis.shape[1],) * 2))[0]
+        result = higher_order_test(model.manifold, point, basis @ turn, model.actuators, second.root,
+                                   max_order=6, rng=np.random.default_rng(100 + seed))
+        assert (result.verdict, result.order) == ("unobstructed", 6), (seed, result.reason)
+        assert NOISE_FACTOR * result.noise < 1e-3 * HIGHER_ORDER_RTOL, seed
 
 
 # ----------------------------------------------------------------------------- invariance and validation
