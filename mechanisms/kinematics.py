@@ -177,22 +177,62 @@ def loop_origin(mechanism):
     frame's origin, a base frame 100 lengths away would scale the
     translation rows by about 100 and move the cut.
 
+    A ground that carries no such point, only P joints (the rails of a
+    3-PRR), still carries lines: a link the ground moves by a P joint alone
+    translates along its axis, so each of its R, U or S points sweeps a line
+    parallel to the axis, fixed in the ground, that another home only slides
+    the point along. The point is then the one nearest to these lines in
+    the least-squares sense, ``c = (Σ Pᵢ)⁻¹ Σ Pᵢ pᵢ`` with Pᵢ = I − aᵢaᵢᵀ the
+    projection across line i (point pᵢ, unit axis aᵢ); along directions
+    every line shares (parallel rails), where the lines do not fix it, the
+    centroid of the pᵢ is taken, which another home moves along the rails.
+
     None for a spherical mechanism (no translation rows); where the ground
-    carries no such point (only P joints: nothing else in the ground is a
-    point, and the singular values of DΦ then still depend on where the
-    base frame is); and where the centroid is the base frame's origin to
-    rounding (within 64 ε of the characteristic length: a base centred on
-    its joints, as most are, keeps its twists exactly as written).
+    carries neither points nor such lines (the singular values of DΦ then
+    depend on where the base frame is); and where the point is the base
+    frame's origin to rounding (within 64 ε of the characteristic length: a
+    base centred on its joints, as most are, keeps its twists exactly as
+    written).
     """
     if mechanism.space == "spherical":
         return None
     ground = mechanism.ground
     points = [joint.point for joint in mechanism.joints if joint.point is not None and ground in joint.links
               and (joint.type in ("R", "U", "S") or joint.links[0] == ground)]
+    if points:
+        centre = np.mean(np.asarray(points, dtype=float), axis=0)
+    else:
+        centre = _rail_point(mechanism)
+        if centre is None:
+            return None
+    return None if np.linalg.norm(centre) <= 64 * np.finfo(float).eps * mechanism.characteristic_length else centre
+
+
+def _rail_point(mechanism):
+    """The least-squares point of the lines swept by the R, U and S points of links the ground moves by a
+    P joint alone (:func:`loop_origin`), shape=[2] or [3], or None where there is no such line."""
+    ground = mechanism.ground
+    touching = {}
+    for joint in mechanism.joints:
+        if ground in joint.links and joint.links[0] != joint.links[1]:
+            other = joint.links[1] if joint.links[0] == ground else joint.links[0]
+            touching.setdefault(other, []).append(joint)
+    points, axes = [], []
+    for link, joints in touching.items():
+        if len(joints) != 1 or joints[0].type != "P":
+            continue
+        axis = np.asarray(joints[0].axis, dtype=float)
+        for joint in mechanism.joints:
+            if link in joint.links and joint.type in ("R", "U", "S") and joint.point is not None:
+                points.append(joint.point)
+                axes.append(axis / np.linalg.norm(axis))
     if not points:
         return None
-    centroid = np.mean(np.asarray(points, dtype=float), axis=0)
-    return None if np.linalg.norm(centroid) <= 64 * np.finfo(float).eps * mechanism.characteristic_length else centroid
+    points, axes = np.asarray(points, dtype=float), np.asarray(axes)
+    centroid = np.mean(points, axis=0)
+    across = np.eye(points.shape[1]) - axes[:, :, None] * axes[:, None, :]          # Pᵢ, [lines, n, n]
+    shift = np.einsum("lij,lj->i", across, points - centroid)
+    return centroid + np.linalg.pinv(np.sum(across, axis=0), rcond=1e-9) @ shift
 
 
 def _link_group(compiled, link):
