@@ -277,6 +277,18 @@ def entry_values(item, arguments):
     return item.values(arguments.configuration, **given)
 
 
+def file_after_grid(arguments):
+    """Take FILE|NAME back from ``--grid`` (several values), which argparse gives every word after it: in
+    ``closedchain map --grid J1=0:1:9 J5=0:1:9 five-bar`` the name was read as a grid axis. The commands
+    with ``--grid`` declare FILE|NAME optional and call this first: a missing one is the last ``--grid`` word
+    when it has no ``=``, else the error argparse would have given."""
+    grid = arguments.grid
+    if arguments.file is None:
+        if not grid or "=" in grid[-1]:
+            raise InputError("the following arguments are required: FILE|NAME")
+        arguments.file = grid.pop()
+
+
 def source(arguments):
     """(mechanism, displacements of the named configuration) for FILE or catalogue NAME.
 

@@ -49,7 +49,8 @@ from __future__ import annotations
 
 import math
 
-from ._common import InputError, check_length_scale, displacements, dumps, entry_options, is_entry, source, write_output
+from ._common import (InputError, check_length_scale, displacements, dumps, entry_options, file_after_grid,
+                      is_entry, source, write_output)
 
 __all__ = ["add_parser", "run"]
 
@@ -69,7 +70,8 @@ GRID_LIMIT = 2_000_000
 
 def add_parser(commands):
     parser = commands.add_parser("conditioning", help="condition numbers and isoconditioning maps (Chablat et al.)")
-    parser.add_argument("file", metavar="FILE|NAME", help="mechanism file (YAML or JSON) or catalogue name")
+    parser.add_argument("file", nargs="?", metavar="FILE|NAME",  # optional to argparse: file_after_grid
+                        help="mechanism file (YAML or JSON) or catalogue name")
     entry_options(parser)
     parser.add_argument("--at", default=None, metavar="JSON|@FILE", help="joint displacements from home")
     parser.add_argument("--matrix", choices=MATRIX_CHOICES, default="B-1A",
@@ -167,6 +169,7 @@ def _modes(text, labels):
 def run(arguments, out):
     from mechanisms import configuration
 
+    file_after_grid(arguments)
     length = _length_option(arguments.length)
     mechanism, named = source(arguments)
     check_length_scale(length, mechanism, "--length")

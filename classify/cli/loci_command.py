@@ -52,7 +52,7 @@ the text or JSON is printed as well.
 from __future__ import annotations
 
 from ..text import drawn, printable
-from ._common import InputError, common_options, entry_options, integer, source
+from ._common import InputError, common_options, entry_options, file_after_grid, integer, source
 
 __all__ = ["add_parser", "run", "DEFAULT_COUNT"]
 
@@ -63,7 +63,8 @@ DEFAULT_COUNT = 24
 def add_parser(commands):
     parser = commands.add_parser("loci", help="trace the singularity loci of a 1-, 2- or 3-dof mechanism (3 dof: "
                                               "in sections), and its C-space map")
-    parser.add_argument("file", metavar="FILE|NAME", help="mechanism file (YAML or JSON) or catalogue name")
+    parser.add_argument("file", nargs="?", metavar="FILE|NAME",  # optional to argparse: file_after_grid
+                        help="mechanism file (YAML or JSON) or catalogue name")
     entry_options(parser)
     parser.add_argument("--coordinates", default=None, metavar="J1,J5|end-effector",
                         help="the coordinates the loci are shown in: joint coordinates or end-effector")
@@ -234,6 +235,7 @@ def run(arguments, out):
 
     import numpy as np
 
+    file_after_grid(arguments)
     if arguments.out is not None:
         figure_path(arguments.out)
     kinds = parse_kinds(arguments.kinds)

@@ -56,8 +56,8 @@ from __future__ import annotations
 
 from ..progress import progress_bar, show_progress
 from ..text import printable
-from ._common import (InputError, check_length_scale, closures_option, common_options, entry_options, source,
-                      survey_option, threads_option, warn_if_serial)
+from ._common import (InputError, check_length_scale, closures_option, common_options, entry_options,
+                      file_after_grid, source, survey_option, threads_option, warn_if_serial)
 
 __all__ = ["add_parser", "run", "PICTURE"]
 
@@ -68,8 +68,8 @@ PICTURE = {"regular": ".", "actuator": "A", "end_effector": "E", "cspace": "C", 
 def add_parser(commands):
     parser = commands.add_parser(
         "map", help="classify every point of a grid of joint coordinates (assembled, or projected onto M)")
-    parser.add_argument("file", metavar="FILE|NAME", help="mechanism file (YAML or JSON), URDF (with --closures), "
-                                                          "MJCF (.xml) or catalogue name")
+    parser.add_argument("file", nargs="?", metavar="FILE|NAME",  # optional to argparse: file_after_grid
+                        help="mechanism file (YAML or JSON), URDF (with --closures), MJCF (.xml) or catalogue name")
     entry_options(parser)
     closures_option(parser)
     parser.add_argument("--grid", nargs="+", action="extend", required=True, metavar="NAME=a:b:n",
@@ -227,6 +227,7 @@ def run(arguments, out):
     from ._grid import parse_grid
     from .classify_command import describe_source
 
+    file_after_grid(arguments)
     check_length_scale(arguments.length_scale)
     if arguments.seed:
         raise InputError("--seed: does not apply to `closedchain map` (the map is deterministic)")

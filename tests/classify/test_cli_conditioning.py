@@ -30,6 +30,14 @@ def test_three_prr_at_fig4a():
         assert value == pytest.approx(1.0, abs=1e-9)
 
 
+def test_the_name_may_follow_the_grid_axes():
+    """``--grid`` takes several words: a NAME after the axes is taken back from it (classify.cli._common)."""
+    grid = ("X=-100:100:3", "Y=-100:100:3")
+    first = run("conditioning", "3-prr", "--grid", *grid)
+    assert first[0] == 0
+    assert run("conditioning", "--grid", *grid, "3-prr") == first
+
+
 def test_three_prr_grid_eight_modes(tmp_path):
     """The grid JSON: L, the isotropic posture of Fig. 4a, eight modes whose indices are the library's."""
     grid = ("X=-285:285:20", "Y=-285:285:20", "PHI=-3.141592653589793:2.8797932657906435:12")

@@ -67,6 +67,8 @@ def test_loci_refuses_bad_input(tmp_path):
     assert status == 2 and "--coordinates" in err
     status, _, err = run(["loci", "five-bar", "--grid", "A=0:1:5"])
     assert status == 2 and "--grid" in err
+    status, _, err = run(["loci", "--grid", "A=0:1:5", "B=0:1:5"])
+    assert status == 2 and "required: FILE|NAME" in err
     status, _, err = run(["loci", "five-bar", "--kinds", "nothing"])
     assert status == 2 and "--kinds" in err
     status, _, err = run(["loci", "five-bar", "--out", str(tmp_path / "x.csv")])

@@ -102,6 +102,16 @@ def test_five_bar_json_document(five_bar_map):
     assert all(set(entry) == {"index", "coordinates", "reachable"} for entry in points if not entry["reachable"])
 
 
+def test_the_name_may_follow_the_grid_axes(five_bar_map):
+    """``--grid`` takes several words, so argparse gave a NAME written after the axes to it (and asked for
+    FILE|NAME): the last word without '=' is the mechanism; with none, the error is argparse's."""
+    status, out, err = run(["map", "--grid", *GRID_7X7, "--format", "json", "five-bar"])
+    assert status == 0, err
+    assert json.loads(out) == five_bar_map[0]
+    status, _, err = run(["map", "--grid", *GRID_7X7])
+    assert status == 2 and err.count("\n") == 1 and "FILE|NAME" in err
+
+
 def test_five_bar_npz_is_shaped_like_the_grid_and_equals_classify_many(five_bar_map):
     document, arrays = five_bar_map
     _, _, mechanism = _five_bar()
