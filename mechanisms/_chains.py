@@ -242,9 +242,10 @@ def chains_of(mechanism, joint_elements, loop_elements=None):
     mechanism : Mechanism
     joint_elements : list of list of Element
         The forward elements of each joint, in file order (:func:`elements_of_joint`).
-    loop_elements : list of list of Element, optional
-        The same, for the loops (written about another origin, :func:`mechanisms.kinematics.loop_origin`);
-        default `joint_elements`.
+    loop_elements : callable, optional
+        ``loop_elements(link, index)``: joint `index`'s elements in a loop whose deepest common ancestor is
+        `link` (written about a point fixed in that link, :func:`mechanisms.kinematics.loop_origin`); default
+        `joint_elements` for every loop.
 
     Returns
     -------
@@ -279,9 +280,11 @@ def chains_of(mechanism, joint_elements, loop_elements=None):
     for index, joint in enumerate(mechanism.joints):
         if index in tree_joints:
             continue
-        first, second = branches(parents, depths, *joint.links)
+        first, second, ancestor = branches(parents, depths, *joint.links)
         steps = first + [(index, True)] + [(i, not forward) for i, forward in reversed(second)]
-        loops.append(traverse(joint_elements if loop_elements is None else loop_elements, steps))
+        elements = joint_elements if loop_elements is None else {
+            step: loop_elements(ancestor, step) for step, _ in steps}
+        loops.append(traverse(elements, steps))
         chords.append(joint.name)
     link_chains = LinkChains(lambda link: traverse(joint_elements, tree_path(parents, link)), tuple(parents))
     return tuple(loops), tuple(chords), link_chains
@@ -297,7 +300,8 @@ def tree_path(parents, link):
 
 
 def branches(parents, depths, first, second):
-    """The tree paths to two links from their deepest common ancestor: two lists of (joint index, forward)."""
+    """The tree paths to two links from their deepest common ancestor: two lists of (joint index, forward),
+    and that ancestor."""
     branches = ([], [])
     links = [first, second]
     while links[0] != links[1]:
@@ -305,7 +309,7 @@ def branches(parents, depths, first, second):
         index, forward, parent = parents[links[side]]
         branches[side].append((index, forward))
         links[side] = parent
-    return branches[0][::-1], branches[1][::-1]
+    return branches[0][::-1], branches[1][::-1], links[0]
 
 
 class LinkChains(Mapping):

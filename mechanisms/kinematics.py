@@ -51,6 +51,7 @@ constant pattern of DΦ (:func:`constraint_pattern`) and its entries
 
 from __future__ import annotations
 
+import functools
 import math
 import weakref
 from dataclasses import dataclass, replace
@@ -84,7 +85,7 @@ class Kinematics:
     ambient : AmbientSpace
     loops : tuple
         One chain per independent loop (chord of the spanning tree), its twists written about
-        :func:`loop_origin` (the link chains' about the base frame's origin).
+        :func:`loop_origin` of its root (the link chains' about the base frame's origin).
     chords : tuple of str
         Names of the chord joints, one per loop.
     link_chains : Mapping
@@ -132,18 +133,26 @@ def kinematics_of(mechanism):
             factors.append(factor)
             scales.append(length if factor == "R" else 1.0)
     ambient = AmbientSpace(tuple(factors), tuple(scales))
-    origin = loop_origin(mechanism)
-    joint_elements, loop_elements, point_parts, factor_index, tangent_start = [], [], {}, 0, 0
+    joint_elements, placements, point_parts, factor_index, tangent_start = [], [], {}, 0, 0
     for joint in mechanism.joints:
         count = len(joint_factors(joint))
         parts = ambient.point_slices[factor_index: factor_index + count]
         point_parts[joint.name] = parts
         joint_elements.append(chains.elements_of_joint(mechanism, joint, parts, tangent_start))
-        loop_elements.append(joint_elements[-1] if origin is None or joint.point is None else
-                             chains.elements_of_joint(mechanism, replace(joint, point=tuple(
-                                 float(value) for value in np.subtract(joint.point, origin))), parts, tangent_start))
+        placements.append((parts, tangent_start))
         factor_index += count
         tangent_start += sum(3 if f == "SO3" else 1 for f in joint_factors(joint))
+
+    origins = functools.lru_cache(maxsize=None)(functools.partial(loop_origin, mechanism))
+
+    def loop_elements(link, index):
+        """Joint `index`'s elements about :func:`loop_origin` of `link`, for a loop whose root it is."""
+        origin, joint = origins(link), mechanism.joints[index]
+        if origin is None or joint.point is None:
+            return joint_elements[index]
+        moved = replace(joint, point=tuple(float(value) for value in np.subtract(joint.point, origin)))
+        return chains.elements_of_joint(mechanism, moved, *placements[index])
+
     loops, chords, link_chains = chains.chains_of(mechanism, joint_elements, loop_elements)
     loop_groups = chains.groups_of(mechanism.space, loops)
     end_effector = mechanism.end_effector
@@ -163,76 +172,106 @@ def kinematics_of(mechanism):
     return compiled
 
 
-def loop_origin(mechanism):
-    """The point the loop closures Φ are written about, shape=[2] or [3], or None (the base frame's origin).
+def loop_origin(mechanism, link=None):
+    """The point the loops rooted at `link` are written about, shape=[2] or [3], or None (the base frame's origin).
 
-    The centroid of the points fixed in the ground that its joints carry:
-    the points of its R, U and S joints (fixed in both of their links) and
-    of the C joints whose first link it is (a C joint's point slides along
-    its axis in its second link). It moves with the base frame and not with
-    the home configuration, the joint zeros or the axis signs: Φ's
-    translation rows, the velocities of the loop's closing point there, then
-    change with the base frame only by a rotation, and the singular values
-    of DΦ (the C-space rank's cut and margins) not at all. About the base
-    frame's origin, a base frame 100 lengths away would scale the
-    translation rows by about 100 and move the cut.
+    A loop's closure is the product of its joints' motions from the deepest
+    common ancestor of its chord's links on the spanning tree (the ground for
+    most loops; :func:`mechanisms._chains.chains_of`), its root, and Φ's
+    translation rows are the velocity of the loop's closing point at a point
+    fixed in the root. That point is the centroid of the points the root's
+    joints carry fixed in it: the points of its R, U and S joints (fixed in
+    both of their links) and of the C joints whose first link it is (a C
+    joint's point slides along its axis in its second link). It is a
+    material point of the root, so it moves with the base frame and not with
+    the home configuration, the joint zeros or the axis signs: the loop's
+    rows then change with the base frame or the home only by a rotation, and
+    the singular values of DΦ (the C-space rank's cut and margins) not at
+    all. About the base frame's origin, a base frame 100 lengths away would
+    scale the translation rows by about 100 and move the cut.
 
-    A ground that carries no such point, only P joints (the rails of a
-    3-PRR), still carries lines: a link the ground moves by a P joint alone
-    translates along its axis, so each of its R, U or S points sweeps a line
-    parallel to the axis, fixed in the ground, that another home only slides
-    the point along. The point is then the one nearest to these lines in
-    the least-squares sense, ``c = (Σ Pᵢ)⁻¹ Σ Pᵢ pᵢ`` with Pᵢ = I − aᵢaᵢᵀ the
-    projection across line i (point pᵢ, unit axis aᵢ); along directions
-    every line shares (parallel rails), where the lines do not fix it, the
-    centroid of the pᵢ is taken, which another home moves along the rails.
+    A root that carries no such point, only P joints (the rails of a 3-PRR)
+    or C joints whose second link it is, still carries lines fixed in it:
+    the axis of such a C joint, and the line each fixed point of a link the
+    root moves by one P joint alone slides along (parallel to the axis);
+    another home only slides the points along them. The point is then the
+    one nearest to these lines in the least-squares sense (:func:`_nearest_point`).
 
-    None for a spherical mechanism (no translation rows); where the ground
-    carries neither points nor such lines (the singular values of DΦ then
-    depend on where the base frame is); and where the point is the base
-    frame's origin to rounding (within 64 ε of the characteristic length: a
-    base centred on its joints, as most are, keeps its twists exactly as
+    None for a spherical mechanism (no translation rows); where the root
+    carries neither points nor lines (the singular values of DΦ then depend
+    on where the base frame is); and where the point is the base frame's
+    origin to rounding (within 64 ε of the characteristic length: a base
+    centred on its joints, as most are, keeps its twists exactly as
     written).
+
+    Parameters
+    ----------
+    mechanism : Mechanism
+    link : str, optional
+        The loops' root; default the ground.
     """
     if mechanism.space == "spherical":
         return None
-    ground = mechanism.ground
-    points = [joint.point for joint in mechanism.joints if joint.point is not None and ground in joint.links
-              and (joint.type in ("R", "U", "S") or joint.links[0] == ground)]
+    link = mechanism.ground if link is None else link
+    points = _fixed_points(mechanism, link)
     if points:
         centre = np.mean(np.asarray(points, dtype=float), axis=0)
     else:
-        centre = _rail_point(mechanism)
-        if centre is None:
+        lines = _fixed_lines(mechanism, link)
+        if not lines:
             return None
+        centre = _nearest_point(*map(np.asarray, zip(*lines)))
     return None if np.linalg.norm(centre) <= 64 * np.finfo(float).eps * mechanism.characteristic_length else centre
 
 
-def _rail_point(mechanism):
-    """The least-squares point of the lines swept by the R, U and S points of links the ground moves by a
-    P joint alone (:func:`loop_origin`), shape=[2] or [3], or None where there is no such line."""
-    ground = mechanism.ground
+def _fixed_points(mechanism, link):
+    """The joint points fixed in `link` at home: of its R, U and S joints, and of the joints whose first link it
+    is (a C joint's point slides along its axis in its second link)."""
+    return [joint.point for joint in mechanism.joints if joint.point is not None and link in joint.links
+            and (joint.type in ("R", "U", "S") or joint.links[0] == link)]
+
+
+def _fixed_lines(mechanism, link):
+    """(point, unit axis) of the lines fixed in `link` (:func:`loop_origin`): the axes of the C joints whose second
+    link it is, and the lines the fixed points of a link it moves by one P joint alone slide along."""
+    unit = lambda axis: np.asarray(axis, dtype=float) / np.linalg.norm(axis)
+    lines = [(np.asarray(joint.point, dtype=float), unit(joint.axis)) for joint in mechanism.joints
+             if joint.type == "C" and joint.links[1] == link and joint.links[0] != link]
     touching = {}
     for joint in mechanism.joints:
-        if ground in joint.links and joint.links[0] != joint.links[1]:
-            other = joint.links[1] if joint.links[0] == ground else joint.links[0]
-            touching.setdefault(other, []).append(joint)
-    points, axes = [], []
-    for link, joints in touching.items():
-        if len(joints) != 1 or joints[0].type != "P":
-            continue
-        axis = np.asarray(joints[0].axis, dtype=float)
-        for joint in mechanism.joints:
-            if link in joint.links and joint.type in ("R", "U", "S") and joint.point is not None:
-                points.append(joint.point)
-                axes.append(axis / np.linalg.norm(axis))
-    if not points:
-        return None
-    points, axes = np.asarray(points, dtype=float), np.asarray(axes)
+        if link in joint.links and joint.links[0] != joint.links[1]:
+            touching.setdefault(joint.links[1] if joint.links[0] == link else joint.links[0], []).append(joint)
+    for other, joints in touching.items():
+        if len(joints) == 1 and joints[0].type == "P":
+            lines += [(np.asarray(point, dtype=float), unit(joints[0].axis)) for point in _fixed_points(mechanism, other)]
+    return lines
+
+
+#: the nearest point of lines is taken along the directions where ΣPᵢ has an eigenvalue above
+#: WELL_CROSSED · its largest, the centroid below WELL_CROSSED / 4, blended linearly in between
+WELL_CROSSED = 0.2
+
+
+def _nearest_point(points, axes):
+    """The point nearest to lines (points pᵢ, unit axes aᵢ; shape=[lines, n] each), kept near the points.
+
+    With Pᵢ = I − aᵢaᵢᵀ (the projection across line i), p̄ the centroid of the pᵢ and ΣPᵢ = Σ λ e eᵀ,
+
+        c = p̄ + Σ_e w(λ / λ_max) (eᵀ Σ Pᵢ(pᵢ − p̄) / λ) e,
+
+    w = 1 above :data:`WELL_CROSSED` (the least-squares point along e: the lines cross there, and the
+    point is the same for any points on them), 0 below a quarter of it (the centroid: lines close to
+    parallel along e, whose crossing would be about 1/angle lengths away and would scale σ₁(DΦ) with
+    it), linear in between (no jump). The sum is over eigenspaces, so it does not depend on the
+    eigenvectors' signs or on the basis of a repeated eigenvalue.
+    """
     centroid = np.mean(points, axis=0)
-    across = np.eye(points.shape[1]) - axes[:, :, None] * axes[:, None, :]          # Pᵢ, [lines, n, n]
-    shift = np.einsum("lij,lj->i", across, points - centroid)
-    return centroid + np.linalg.pinv(np.sum(across, axis=0), rcond=1e-9) @ shift
+    across = np.eye(points.shape[1]) - axes[:, :, None] * axes[:, None, :]
+    values, vectors = np.linalg.eigh(np.sum(across, axis=0))
+    shift = vectors.T @ np.einsum("lij,lj->i", across, points - centroid)
+    ratio = values / values[-1]
+    weight = np.clip((ratio - WELL_CROSSED / 4) / (WELL_CROSSED - WELL_CROSSED / 4), 0.0, 1.0)
+    return centroid + vectors @ np.divide(weight * shift, values, out=np.zeros_like(shift), where=weight > 0)
 
 
 def _link_group(compiled, link):

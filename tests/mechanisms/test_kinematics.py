@@ -12,7 +12,7 @@ import pytest
 
 from builders import bennett, five_bar, five_bar_positions, rsur, spatial_mix, spherical_four_bar
 from mechanisms.catalogue.slider_crank import slider_crank
-from mechanisms.kinematics import loop_origin
+from mechanisms.kinematics import _nearest_point, loop_origin
 from manifold import numerical_rank, project, rotation_exp, tangent_basis
 from mechanisms import (
     EndEffector, Mechanism, configuration_space, constraint, constraint_hessian, constraint_jacobian, end_effector,
@@ -126,6 +126,25 @@ def test_jacobian_columns_are_the_joint_twists_at_home():
     for column in range(5):
         assert min(np.linalg.norm(jacobian[:, column] - expected[:, column]),
                    np.linalg.norm(jacobian[:, column] + expected[:, column])) < 1e-12
+
+
+@pytest.mark.parametrize("dimension", [2, 3])
+def test_the_nearest_point_of_crossing_lines_is_their_crossing_wherever_their_points_slide(dimension):
+    """Lines through one point c (well crossed): c, for any points on them and either axis sign; lines close to
+    parallel along a direction: the centroid's coordinate along it (mechanisms.kinematics.loop_origin)."""
+    rng = np.random.default_rng(5)
+    crossing = rng.normal(size=dimension)
+    axes = np.linalg.qr(rng.normal(size=(dimension, dimension)))[0].T[:, :dimension]
+    axes = np.vstack([axes, (axes[0] + axes[1]) / np.sqrt(2)])
+    for _ in range(3):
+        slides = rng.normal(scale=5.0, size=len(axes))
+        signs = rng.choice([-1.0, 1.0], size=len(axes))
+        found = _nearest_point(crossing + slides[:, None] * axes, signs[:, None] * axes)
+        np.testing.assert_allclose(found, crossing, atol=1e-12 * np.abs(slides).max())
+    if dimension == 2:  # two rails 1e-4 apart in angle: their crossing is about 1e4 away, the point is not
+        points = rng.normal(size=(2, 2))
+        found = _nearest_point(points, np.array([[1.0, 0.0], [np.cos(1e-4), np.sin(1e-4)]]))
+        assert np.linalg.norm(found - points.mean(axis=0)) <= np.linalg.norm(points[0] - points[1])
 
 
 @pytest.mark.parametrize("name", ["bennett", "RSUR pose", "mix pose", "spherical four-bar"])
