@@ -8,7 +8,7 @@ anything else is refused rather than silently used.
 
 Format (JSON)::
 
-    {"format": "closedchain-survey", "version": 1, "mechanism": NAME,
+    {"format": "closedchain-survey", "version": 2, "mechanism": NAME,
      "fingerprint": HEX, "rtol": 1e-06, "survey": {"samples": …, …}}
 """
 
@@ -27,7 +27,10 @@ from .survey import SURVEY_SEED, Survey, survey_of
 __all__ = ["read_survey", "write_survey", "cached_survey", "fingerprint", "SurveyCacheError"]
 
 _FORMAT = "closedchain-survey"
-_VERSION = 1
+#: 2: the survey's random points of K are projected onto the closing map first (version 1's surveys of
+#: spatial and spherical mechanisms had the walk from home as their only samples, every random start ending at
+#: a half-turn); a version 1 file is refused, not reused
+_VERSION = 2
 #: largest survey cache file read (bytes)
 _LARGEST_FILE = 1 << 20
 

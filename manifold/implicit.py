@@ -98,6 +98,10 @@ class ImplicitManifold:
     constraint_hessian_form : callable, optional
         ``form(point, left, right) -> array, shape=[..., c, i, j]``:
         ``D²Φ(point)(left[:, i], right[:, j])`` without the c×k×k Hessian.
+    closing : ImplicitManifold, optional
+        The same M as the zero set of another map without Φ's spurious zeros, its Jacobian exact on M
+        at least: :func:`manifold.sample_manifold` projects random points of K onto it first, then onto
+        Φ (e.g. a mechanism's loops, whose Φ also vanishes at half-turns).
     """
 
     ambient: AmbientSpace
@@ -108,6 +112,7 @@ class ImplicitManifold:
     pattern: Optional[JacobianPattern] = None
     constraint_jacobian_entries: Optional[Callable] = None
     constraint_hessian_form: Optional[Callable] = None
+    closing: Optional["ImplicitManifold"] = None
 
 
 def _blocked(manifold):

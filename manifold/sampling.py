@@ -83,7 +83,9 @@ def sample_manifold(manifold, rng, starts, random_count=24, walk_count=24, step=
     Two sources: Gauss-Newton from random points of K (angles and rotations
     uniform, lengths normal about the start; reaching
     other assembly branches), and a random walk on M from each start
-    (exploring the start's branch).
+    (exploring the start's branch). A random point is projected onto
+    ``manifold.closing`` first where there is one (a map without Φ's
+    spurious zeros, which would otherwise catch most of them), then onto Φ.
 
     Parameters
     ----------
@@ -108,6 +110,8 @@ def sample_manifold(manifold, rng, starts, random_count=24, walk_count=24, step=
     samples = [start for start in starts]
     for guess in ambient.random_point(rng, center=starts[0], size=random_count):
         try:
+            if manifold.closing is not None:
+                guess = project(manifold.closing, guess, max_step=scales.max())
             samples.append(project(manifold, guess, max_step=scales.max()))
         except ProjectionError:
             continue

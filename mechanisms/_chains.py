@@ -549,6 +549,27 @@ def planar_loops(group, point, length, order=1):
     return rows, turns, entries
 
 
+def planar_closing(group, point, length):
+    """Rows and entries of the closing map of planar loops (:func:`mechanisms.kinematics.closing_space`).
+
+    Rows ``(arg r, Re t / ℓ, Im t / ℓ)`` for the loop product ``T = (r, t)``: zero only where T = I (the
+    half-turn r = −1, a zero of Φ's ``Im r``, gives ±π). Entries those of :func:`planar_loops` with the
+    rotation row ω for ω Re r: the derivative of the angle is exact, ``∂ arg r/∂v = ω``.
+
+    Returns
+    -------
+    rows : ndarray, shape=[..., g, 3]
+    entries : ndarray, shape=[..., g, C, 3]
+    """
+    rotations, translations = planar_prefixes(group, point)
+    rotation, translation = rotations[..., -1], translations[..., -1]
+    rows = np.stack([np.angle(rotation), translation.real / length, translation.imag / length], axis=-1)
+    angular, linear = planar_twists(group, rotations, translations)
+    moved = linear + 1j * angular * translation[..., None]
+    entries = np.stack([np.broadcast_to(angular, moved.shape), moved.real / length, moved.imag / length], axis=-1)
+    return rows, entries
+
+
 # --------------------------------------------------------------------------- first order from prefixes only
 
 def carried_twists(space, group, point):
@@ -617,6 +638,32 @@ def loop_first_order(space, group, point, length):
         return product, rows
     moved = (_cross(angular, np.broadcast_to(product[..., None, :3, 3], angular.shape)) + linear) / length
     return product, np.concatenate([rows, moved], axis=-1)
+
+
+def loop_closing(space, group, point, length):
+    """Rows and entries of the closing map of spherical or spatial loops
+    (:func:`mechanisms.kinematics.closing_space`).
+
+    Rows ``(φ n, p / ℓ)`` for the loop product ``T = [R, p]``, φ n the rotation vector of R (zero only where
+    R = I: the half-turns, zeros of Φ's ``½ vee(R − Rᵀ) = sin φ n``, give φ = π). Entries ``(ω, (ω × p + v) / ℓ)``
+    for the carried twists ``W = (ω, v)`` (:func:`carried_twists`): the translation rows' derivative exactly,
+    the rotation vector's to first order in φ (exact at R = I, so on M they are DΦ's entries).
+
+    Returns
+    -------
+    rows : ndarray, shape=[..., g, rows]
+    entries : ndarray, shape=[..., g, C, rows]
+    """
+    from scipy.spatial.transform import Rotation  # here, not at start-up: only far projections need it
+
+    product, angular, linear = carried_twists(space, group, point)
+    rotation = product[..., :3, :3]
+    vectors = Rotation.from_matrix(rotation.reshape(-1, 3, 3)).as_rotvec().reshape(rotation.shape[:-1])
+    if space == "spherical":
+        return vectors, angular
+    moved = (_cross(angular, np.broadcast_to(product[..., None, :3, 3], angular.shape)) + linear) / length
+    rows = np.concatenate([vectors, product[..., :3, 3] / length], axis=-1)
+    return rows, np.concatenate([angular, moved], axis=-1)
 
 
 def first_derivatives(space, group, point):

@@ -306,7 +306,50 @@ def configuration_space(mechanism):
         pattern=compiled.pattern,
         constraint_jacobian_entries=lambda point: constraint_jacobian_entries(mechanism, point),
         constraint_hessian_form=lambda point, left, right: constraint_hessian_form(mechanism, point, left, right),
+        closing=closing_space(mechanism),
     )
+
+
+def closing_space(mechanism):
+    """M as the zero set of the *closing map*, which has no spurious zero: for far starts of Gauss-Newton.
+
+    Φ's rotation rows ``½ vee(R − Rᵀ) = sin φ n`` vanish at the half-turns too (φ = π), and Gauss-Newton
+    from a random point of K ends there for most loops: the rotation angle of a random rotation exceeds
+    π/2 with probability 0.82, so with 5 loops (a Gough-Stewart platform) every one of 24 random starts of
+    the survey did. The closing map's rotation rows are the rotation vector φ n (the angle arg r in the
+    plane), zero only at R = I; its Jacobian is DΦ's with those rows' derivative taken at R = I (exact in
+    the plane), the carried twists' ω, so Gauss-Newton converges to the same points of M, quickly once
+    close (:func:`manifold.sample_manifold` projects onto this map, then onto Φ). Same rows, pattern and
+    scaling as Φ.
+    """
+    compiled = kinematics_of(mechanism)
+
+    def rows_and_entries(point):
+        point = _as_points(mechanism, point)
+        batch = point.shape[:-1]
+        rows, entries = [], []
+        for group in compiled.loop_groups:
+            if compiled.space == "planar":
+                group_rows, group_entries = chains.planar_closing(group, point, compiled.length)
+            else:
+                group_rows, group_entries = chains.loop_closing(compiled.space, group, point, compiled.length)
+            rows.append((group.chains, group_rows))
+            entries.append(_flattened(group_entries, batch))
+        values = np.zeros(batch + (len(compiled.loops), groups.LOOP_ROWS[compiled.space]))
+        for chains_of_group, group_rows in rows:
+            values[..., chains_of_group, :] = group_rows
+        return (_flattened(values, batch),
+                np.concatenate(entries, axis=-1) if entries else np.zeros(batch + (0,)))
+
+    def jacobian(point):
+        entries = rows_and_entries(point)[1]
+        matrix = np.zeros(entries.shape[:-1] + compiled.pattern.shape)
+        matrix[..., compiled.pattern.rows, compiled.pattern.columns] = entries
+        return matrix
+
+    return ImplicitManifold(ambient=compiled.ambient, constraint=lambda point: rows_and_entries(point)[0],
+                            constraint_jacobian=jacobian, pattern=compiled.pattern,
+                            constraint_jacobian_entries=lambda point: rows_and_entries(point)[1])
 
 
 def _flattened(array, batch):

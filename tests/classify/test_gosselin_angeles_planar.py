@@ -173,7 +173,9 @@ def test_slider_crank_coordinates_are_read_from_the_configuration():
         moved = rehome(mechanism, point)
         moved_theta, moved_x = slider_crank_coordinates(moved)(home(moved))
         assert math.remainder(moved_theta[0] - theta[0], 2 * math.pi) == pytest.approx(0.0, abs=1e-12)
-        assert moved_x[0] == pytest.approx(x[0], abs=1e-12)
+        # x read from the slider's chain and from the crank's: they differ by the closure residual (1e-12 of
+        # rows scaled by L, about 2 here)
+        assert moved_x[0] == pytest.approx(x[0], abs=1e-11)
 
 
 @pytest.mark.parametrize("theta, branch", [(0.0, 1), (0.0, -1), (math.pi, 1), (math.pi, -1)])

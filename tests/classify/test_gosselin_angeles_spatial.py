@@ -32,7 +32,7 @@ from classify.gosselin_angeles_examples.spherical_3rrr import (
 )
 from classify.model import model_of
 from classify.survey import survey as survey_model
-from manifold import rotation_exp
+from manifold import rotation_exp, sample_manifold
 from mechanisms import end_effector, home, link_pose
 from mechanisms.catalogue import entry
 from mechanisms.catalogue.gough_stewart import platform_points
@@ -55,6 +55,11 @@ SURVEY_SAMPLES = {"spherical-3rrr": 24, "gough-stewart": 8}
 #: sampled configurations of each family's default mechanism, besides its home
 SAMPLES = 4
 
+#: families whose relations describe the home's assembly branch only, sampled by a walk on M from home: eq. 75
+#: takes the root cᵢ = +√(Uᵢ² + Vᵢ² + Wᵢ²), and random points of K also reach the branches where a leg's
+#: length cᵢ (its P coordinate) is negative, which compare rightly calls inconsistent_relation (tested below)
+HOME_BRANCH = {"gough-stewart"}
+
 #: disagreements that are expected where they occur: derived A, B undefined at a C-space
 #: singularity; eq. 75 not differentiable at a leg of zero length (eq. 84)
 EXPECTED_REASONS = {"cspace_singularity", "not_differentiable"}
@@ -74,7 +79,10 @@ def comparisons(family, configuration=None, overrides=()):
     model = model_of(mechanism)
     points = home(mechanism)[None]
     if configuration is None and not overrides:
-        points = np.vstack([points, sample_configurations(model, SAMPLES, rng())])
+        if family in HOME_BRANCH:
+            points = np.vstack([points, sample_manifold(model.manifold, rng(), points, 0, SAMPLES)[1:]])
+        else:
+            points = np.vstack([points, sample_configurations(model, SAMPLES, rng())])
     count = SURVEY_SAMPLES[family]
     survey = survey_model(model, rng(), random_count=count, walk_count=count)
     results = {"derived": compare(model, points, survey=survey, rng=rng())}
@@ -481,6 +489,20 @@ def test_eq84_a_leg_of_zero_length():
         moved = pose + np.concatenate([sign * 1e-6 * direction, np.zeros(3)])
         rows.append(first.jacobians(lengths, moved)[1][0, :3])
     np.testing.assert_allclose(rows, [direction, -direction], atol=1e-6)
+
+
+def test_a_leg_of_negative_length_is_not_described_by_eq_75():
+    """Random points of K projected onto M reach configurations where a leg's P coordinate cᵢ is negative (the
+    platform point passed through the base joint): eq. 75's F = cᵢ − √(…) does not vanish there, and compare
+    says so rather than classifying with it."""
+    mechanism = entry("gough-stewart").mechanism()
+    model = model_of(mechanism)
+    relation, coordinates = eq75_relation(mechanism)
+    points = sample_configurations(model, 24, rng())
+    negative = [point for point in points if np.min(coordinates(point)[0]) < -1e-3]
+    assert negative, "no sampled configuration with a negative leg length"
+    row = compare(model, negative[0][None], relation=relation, coordinates=coordinates, rng=rng()).rows[0]
+    assert row.reason == "inconsistent_relation" and not row.agree
 
 
 def test_gough_stewart_relations_agree_with_the_derived_matrices_on_samples_and_presets():

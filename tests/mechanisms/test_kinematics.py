@@ -13,10 +13,10 @@ import pytest
 from builders import bennett, five_bar, five_bar_positions, rsur, spatial_mix, spherical_four_bar
 from mechanisms.catalogue.slider_crank import slider_crank
 from mechanisms.kinematics import _nearest_point, loop_origin
-from manifold import numerical_rank, project, rotation_exp, tangent_basis
+from manifold import ImplicitManifold, ProjectionError, numerical_rank, project, rotation_exp, tangent_basis
 from mechanisms import (
-    EndEffector, Mechanism, configuration_space, constraint, constraint_hessian, constraint_jacobian, end_effector,
-    end_effector_chart, end_effector_hessian, end_effector_jacobian, home, kinematics_of,
+    EndEffector, Mechanism, closes, configuration_space, constraint, constraint_hessian, constraint_jacobian,
+    end_effector, end_effector_chart, end_effector_hessian, end_effector_jacobian, home, kinematics_of,
 )
 
 MECHANISMS = {
@@ -82,6 +82,64 @@ def test_constraint_derivatives_pass_the_taylor_test(name):
         first, second = slopes(lambda p: constraint(mechanism, p), lambda p: constraint_jacobian(mechanism, p),
                                lambda p: constraint_hessian(mechanism, p), point, space, rng)
         assert first > 1.9 and second > 2.9, (first, second)
+
+
+def first_order_slope(function, jacobian, point, space, rng):
+    """Observed order of the first-order Taylor remainder of `function` (∞ when it is rounding)."""
+    direction = rng.standard_normal(space.dim)
+    value, first = function(point), jacobian(point)
+    steps = np.array([1e-3, 5e-4, 2.5e-4])
+    errors = [np.linalg.norm(function(space.retract(point, step * direction)) - value - step * first @ direction)
+              for step in steps]
+    return np.polyfit(np.log(steps), np.log(errors), 1)[0] if errors[-1] > 1e-13 else np.inf
+
+
+@pytest.mark.parametrize("name", sorted(MECHANISMS))
+def test_the_closing_map_vanishes_on_m_with_dphi_as_its_jacobian_there(name):
+    """closing_space (mechanisms.kinematics): zero on M, where its Jacobian is DΦ; its translation rows (and, in
+    the plane, every row) have their exact derivative everywhere (Taylor test at random points of K); its
+    rotation rows, the rotation vector, have the carried ω, exact at R = I (Taylor test on M)."""
+    rng = np.random.default_rng(14)
+    mechanism = MECHANISMS[name]()
+    closing = configuration_space(mechanism).closing
+    space = kinematics_of(mechanism).ambient
+    on_m = [project(configuration_space(mechanism), home(mechanism))]
+    on_m.append(project(configuration_space(mechanism), space.retract(on_m[0], 0.1 * rng.standard_normal(space.dim))))
+    for point in on_m:
+        assert np.linalg.norm(closing.constraint(point)) < 1e-11
+        np.testing.assert_allclose(closing.constraint_jacobian(point), constraint_jacobian(mechanism, point),
+                                   atol=1e-10)
+        assert first_order_slope(closing.constraint, closing.constraint_jacobian, point, space, rng) > 1.9
+    rotation = {"planar": 0, "spherical": 3, "spatial": 3}[mechanism.space]
+    rows = np.arange(closing.constraint(on_m[0]).size) % (3 if mechanism.space != "spatial" else 6) >= rotation
+    for point in random_points(mechanism, rng):
+        slope = first_order_slope(lambda p: closing.constraint(p)[..., rows],
+                                  lambda p: closing.constraint_jacobian(p)[..., rows, :], point, space, rng)
+        assert slope > 1.9, slope
+
+
+@pytest.mark.parametrize("name", ["five-bar", "spherical four-bar", "RSUR pose"])
+def test_a_half_turn_is_a_zero_of_phi_but_not_of_the_closing_map(name):
+    """Gauss-Newton from random points of K ends at half-turns, zeros of Φ that `closes` rejects; the closing
+    map's rotation rows (one loop here) are a rotation vector of length π there (so manifold.sample_manifold
+    projects onto it first)."""
+    rng = np.random.default_rng(15)
+    mechanism = MECHANISMS[name]()
+    manifold = configuration_space(mechanism)
+    space = manifold.ambient
+    found = []
+    for guess in space.random_point(rng, size=40):
+        try:
+            point = project(ImplicitManifold(space, manifold.constraint, manifold.constraint_jacobian), guess)
+        except ProjectionError:
+            continue
+        if not closes(mechanism, point):
+            found.append(point)
+    assert found, "no half-turn reached"
+    for point in found:
+        assert np.linalg.norm(constraint(mechanism, point)) < 1e-11
+        rotation = manifold.closing.constraint(point)[:1 if mechanism.space == "planar" else 3]
+        assert np.linalg.norm(rotation) == pytest.approx(np.pi, abs=1e-9)
 
 
 @pytest.mark.parametrize("name", sorted(MECHANISMS))
