@@ -60,6 +60,7 @@ Used by ``closedchain map`` (:mod:`classify.cli.map_command`) and the loci
 
 from __future__ import annotations
 
+import functools
 import math
 import numbers
 from dataclasses import dataclass
@@ -251,7 +252,7 @@ def held_entries(ambient, held):
 
 # ------------------------------------------------------------------------------------------------ continuation
 
-def _correct(mechanism, points, free, iterations=_CORRECTOR_ITERATIONS):
+def _correct(mechanism, points, free, iterations=_CORRECTOR_ITERATIONS, closing=False):
     """Gauss–Newton corrector in the free coordinates from a stack of configurations (held ones fixed bit for bit).
 
     ``q ← q ⊕ −s·(DΦ_q(q)·s)⁺ Φ(q)``, the step of least dimensionless length,
@@ -267,6 +268,9 @@ def _correct(mechanism, points, free, iterations=_CORRECTOR_ITERATIONS):
     points : ndarray, shape=[m, point_size]
     free : ndarray of int, shape=[f]
         The free tangent coordinates.
+    closing : bool
+        Iterate on the closing map (:func:`mechanisms.kinematics.closing_space`: no half-turn zeros) instead
+        of Φ, for starts far from M; its residual is returned.
 
     Returns
     -------
@@ -274,12 +278,18 @@ def _correct(mechanism, points, free, iterations=_CORRECTOR_ITERATIONS):
     residuals : ndarray, shape=[m]
         ‖Φ‖ at each (NaN where the iteration diverged).
     """
-    from mechanisms.kinematics import constraint, constraint_jacobian, kinematics_of
+    from mechanisms import kinematics
 
-    ambient = kinematics_of(mechanism).ambient
+    if closing:
+        space = kinematics.closing_space(mechanism)
+        value_of, jacobian_of = space.constraint, space.constraint_jacobian
+    else:
+        value_of = functools.partial(kinematics.constraint, mechanism)
+        jacobian_of = functools.partial(kinematics.constraint_jacobian, mechanism)
+    ambient = kinematics.kinematics_of(mechanism).ambient
     scales = ambient.tangent_scales[free]
     points = np.array(points, dtype=float)
-    values = constraint(mechanism, points)
+    values = value_of(points)
     norms = np.linalg.norm(values, axis=-1)
     if not len(free):
         return points, norms
@@ -288,11 +298,11 @@ def _correct(mechanism, points, free, iterations=_CORRECTOR_ITERATIONS):
         rows = np.flatnonzero(active & (norms > 1e-3 * _TOLERANCE))
         if not rows.size:
             break
-        jacobian = constraint_jacobian(mechanism, points[rows])[..., free] * scales
+        jacobian = jacobian_of(points[rows])[..., free] * scales
         tangent = np.zeros((rows.size, ambient.dim))
         tangent[:, free] = -scales * np.einsum("arc,ac->ar", np.linalg.pinv(jacobian, rcond=1e-12), values[rows])
         points[rows] = ambient.retract(points[rows], tangent)
-        values[rows] = constraint(mechanism, points[rows])
+        values[rows] = value_of(points[rows])
         previous, norms[rows] = norms[rows], np.linalg.norm(values[rows], axis=-1)
         active[rows] = norms[rows] < previous  # not converging (above the tolerance): the caller halves the step
     return points, norms
@@ -603,6 +613,8 @@ def assemble_branches(mechanism, start, targets, shape, held, count, rng, probes
     tangent[:, free] = rng.uniform(-np.pi, np.pi, (which.size, free.size)) * scales[free]
     guesses = ambient.retract(targets[which], tangent)
     guesses[:, entries] = targets[which][:, entries]
+    # onto the closing map first: from far starts, Gauss-Newton on Φ ends at half-turns for most loops
+    guesses = _correct(mechanism, guesses, free, 8 * _CORRECTOR_ITERATIONS, closing=True)[0]
     solved, residuals = _correct(mechanism, guesses, free, 8 * _CORRECTOR_ITERATIONS)
     good = (residuals <= _TOLERANCE) & np.asarray(closes(mechanism, solved, _TOLERANCE), dtype=bool)
     solved, which = solved[good], which[good]

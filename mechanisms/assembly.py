@@ -105,7 +105,7 @@ from .configuration import from_displacements, home, to_displacements, validate_
 from .errors import ConfigurationError, MechanismError
 from .io import check_displacement
 from .joints import joint_coordinate_names, joint_factors
-from .kinematics import closes, constraint, constraint_jacobian, kinematics_of
+from .kinematics import closes, closing_space, constraint, constraint_jacobian, kinematics_of
 
 __all__ = ["AssemblyError", "Assembly", "ASSEMBLY_METHODS", "assemble", "assemblies"]
 
@@ -200,6 +200,16 @@ class _Problem:
             constraint=lambda free: constraint(mechanism, self.embed(free, base)),
             constraint_jacobian=lambda free: constraint_jacobian(mechanism, self.embed(free, base))[..., columns],
             is_solution=lambda free: bool(np.all(closes(mechanism, self.embed(free, base), np.inf))))
+
+    def closing_fibre(self, base=None):
+        """The same fibre as the zero set of the closing map (:func:`mechanisms.kinematics.closing_space`):
+        no half-turn zeros, for random starts far from it."""
+        base = self.target if base is None else np.asarray(base, dtype=float)
+        closing, columns = closing_space(self.mechanism), self.free_tangent
+        return ImplicitManifold(
+            ambient=self.reduced,
+            constraint=lambda free: closing.constraint(self.embed(free, base)),
+            constraint_jacobian=lambda free: closing.constraint_jacobian(self.embed(free, base))[..., columns])
 
 
 def _holdable(mechanism):
@@ -432,7 +442,8 @@ def _search(problem, rng, count, tolerance, guess_point=None):
         methods.append("guess")
     if count > 0:
         randoms = problem.reduced.random_point(rng, center=problem.home[problem.free_points], size=count)
-        starts += list(randoms)
+        # onto the closing map first: from far starts, Gauss-Newton on Φ ends at half-turns for most loops
+        starts += list(_newton(problem.closing_fibre(), randoms, tolerance)[0])
         methods += ["search"] * count
     if not starts:
         return [], math.inf

@@ -1,10 +1,12 @@
-"""The survey samples M globally: random points of K reach M, and another description finds the same ranks.
+"""Random starts far from M reach it: the survey samples M globally (another description finds the same
+ranks), and the grid's branch search finds other assembly branches.
 
 Φ's rotation rows vanish at half-turns too, and Gauss-Newton from a random point of K ended there for
 nearly every start of the survey (every one of 24 for the Gough-Stewart platform, the Eclipse, the 5-SPU
 and the spherical 3-RRR), leaving the walk from home as the only sampling: whether the survey found the
 largest ranks then hung on the description (found by an audit of the verdicts under joint orders and axis
-flips). Random points are now projected onto the closing map first (:func:`mechanisms.kinematics.closing_space`).
+flips). Random points are now projected onto the closing map first (:func:`mechanisms.kinematics.closing_space`),
+there and in the branch search of the grids (:func:`classify.grid_continuation.assemble_branches`).
 """
 
 import numpy as np
@@ -64,3 +66,25 @@ def test_the_watt_six_bar_is_not_called_architecturally_singular_in_another_join
     for described in (mechanism, reordered(mechanism, [4, 2, 1, 3, 5, 0, 6])):
         report = classify(described, home(described))
         assert (report.kinds, report.degeneracy, report.moving_idle_freedoms) == (("actuator",), "degenerate", 0)
+
+
+def test_the_grid_finds_other_assembly_branches_of_the_spherical_3rrr():
+    """assemble_branches solves the loops from random values at a few grid points: on Φ every start of the
+    spherical 3-RRR ended at a half-turn, and the grid had the start's branch only."""
+    from classify.grid_continuation import assemble_branches
+
+    mechanism = catalogue.entry("spherical-3rrr").mechanism()
+    ambient = kinematics_of(mechanism).ambient
+    held = [index for index, joint in enumerate(mechanism.joints) if joint.actuated][:2]
+    values = np.linspace(-0.3, 0.3, 3)
+    targets = []
+    for first in values:
+        for second in values:
+            step = np.zeros(ambient.dim)
+            step[held] = first, second
+            targets.append(ambient.retract(home(mechanism), step))
+    points, reached, _, solutions = assemble_branches(mechanism, home(mechanism), np.array(targets), (3, 3), held,
+                                                      4, np.random.default_rng(0))
+    assert solutions > 0 and len(points) == 4
+    for branch, mask in zip(points, reached):
+        assert mask.any() and all(closes(mechanism, point) for point in branch[mask])
