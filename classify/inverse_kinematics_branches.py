@@ -225,9 +225,10 @@ def _output_residual(output, values, target):
         return target - values
     size = values.shape[-1]
     relative = np.linalg.solve(values, np.broadcast_to(target, values.shape))   # F⁻¹ F₀
-    rotation = relative[..., :size - 1, :size - 1]
+    # an orientation is the rotation matrix itself (SO(2) or SO(3)), a pose a homogeneous matrix around it
+    rotation = relative if output == "orientation" else relative[..., :size - 1, :size - 1]
     skew = (rotation - np.swapaxes(rotation, -1, -2)) / 2
-    if size == 3:   # planar: ω, then the translation
+    if rotation.shape[-1] == 2:   # planar: ω, then the translation
         angular = skew[..., 1, 0][..., None]
     else:
         angular = np.stack([skew[..., 2, 1], skew[..., 0, 2], skew[..., 1, 0]], axis=-1)

@@ -195,6 +195,8 @@ def test_general_cartesian_grid_from_a_file(tmp_path):
     (("five-bar", "--grid", "X=0:1:2", "Y=0:1:2", "--length", "3"), "--length: the five-bar's outputs"),
     (("spherical-3rrr", "--length", "2"), "--length: the end-effector's outputs are not positions"),
     (("five-bar", "--mode", "nan"), "--mode: applies to the maps of --grid"),
+    # an orientation output: the working modes failed first, with a NumPy broadcast error as the message
+    (("spherical-3rrr", "--grid", "X=0:0.1:2", "Y=0:0.1:2"), "--grid: a Cartesian grid needs a position or planar"),
 ])
 def test_bad_input_exits_2_with_one_line(arguments, message, capsys):
     status, out, _ = run("conditioning", *arguments)

@@ -276,3 +276,16 @@ def test_cartesian_outputs_of_a_planar_pose_keep_the_configurations_turn():
     assert values.shape == (6, 3)
     np.testing.assert_allclose(values[:, 2], math.atan2(frame[1, 0], frame[0, 0]))
     np.testing.assert_allclose(values[:, :2], [[0, 0], [0, 1], [0, 2], [1, 0], [1, 1], [1, 2]])
+
+
+def test_working_modes_of_an_orientation_output():
+    """An orientation output is the rotation matrix itself (SO(3)), not a homogeneous matrix: its residual took
+    the 2×2 corner and the working modes of the spherical 3-RRR failed with a NumPy broadcast error (also
+    printed by ``closedchain conditioning spherical-3rrr --grid X=… Y=…``). Every mode keeps the gripper's
+    orientation; mode 1 is the configuration's own."""
+    mechanism, point = _entry_mechanism("spherical-3rrr")
+    modes = mechanism_working_modes(mechanism, point)
+    assert modes and np.allclose(modes[0].point, point, atol=1e-9)
+    reference = end_effector(mechanism, point)
+    for mode in modes:
+        np.testing.assert_allclose(end_effector(mechanism, mode.point), reference, atol=1e-9)
