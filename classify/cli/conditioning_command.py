@@ -371,6 +371,11 @@ def _general_maps(arguments, mechanism, point, length):
 
     cartesian = _cartesian_grid(arguments.grid, mechanism)
     grid = None if cartesian is not None else parse_grid(arguments.grid, mechanism)
+    if cartesian is not None:
+        try:
+            cartesian_outputs(mechanism, point, *cartesian[:2])  # the axes fit the output, before any work
+        except ValueError as error:
+            raise InputError(f"--grid: {error}") from None
     try:
         found, isotropic = _general_length(mechanism, point, length)
         modes = mechanism_working_modes(mechanism, point)
@@ -384,10 +389,6 @@ def _general_maps(arguments, mechanism, point, length):
         if cartesian is not None:
             names, axes, values = cartesian
             held, description = None, {name: list(value) for name, value in zip(names, values)}
-            try:
-                cartesian_outputs(mechanism, point, names, axes)  # the axes fit the output (a cheap check first)
-            except ValueError as error:
-                raise InputError(f"--grid: {error}") from None
             maps = cartesian_grid_maps(mechanism, mapped, names, axes, point, found.value, derived=derived)
         else:
             held, description = held_columns(mechanism, grid), grid.to_dict()
