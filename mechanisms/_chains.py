@@ -658,7 +658,12 @@ def loop_closing(space, group, point, length):
 
     product, angular, linear = carried_twists(space, group, point)
     rotation = product[..., :3, :3]
-    vectors = Rotation.from_matrix(rotation.reshape(-1, 3, 3)).as_rotvec().reshape(rotation.shape[:-1])
+    flat = rotation.reshape(-1, 3, 3)
+    finite = np.all(np.isfinite(flat), axis=(-2, -1))       # NaN rows where the point is not finite, as Φ's
+    vectors = np.full(flat.shape[:-1], np.nan)
+    if finite.any():
+        vectors[finite] = Rotation.from_matrix(flat[finite]).as_rotvec()
+    vectors = vectors.reshape(rotation.shape[:-1])
     if space == "spherical":
         return vectors, angular
     moved = (_cross(angular, np.broadcast_to(product[..., None, :3, 3], angular.shape)) + linear) / length

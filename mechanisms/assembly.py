@@ -112,8 +112,11 @@ __all__ = ["AssemblyError", "Assembly", "ASSEMBLY_METHODS", "assemble", "assembl
 #: How an assembly was reached: Newton from the home, continuation from the home along the
 #: inputs, Newton from the user's guess, Newton from a random start.
 ASSEMBLY_METHODS = ("newton", "continuation", "guess", "search")
-#: dimensionless chart distance under which two solutions are one assembly
+#: dimensionless chart distance under which two solutions are one assembly: at least _SAME, and _STALL times
+#: √tolerance, since Newton stalls about √‖Φ‖ from a double root (an assembly at a singularity: random starts
+#: that reach the Eclipse's Fig. 10 home stopped 1.4e-5 to 3.6e-5 from it and from each other)
 _SAME = 1e-5
+_STALL = 100.0
 #: largest dimensionless corrector move a continuation step accepts
 _JUMP = 0.25
 
@@ -460,12 +463,13 @@ def _chart_from_home(problem, free):
     return ambient.inverse_retract(problem.home, problem.embed(free)) / ambient.tangent_scales
 
 
-def _distinct(problem, found):
+def _distinct(problem, found, tolerance):
     """Found solutions without repeats (the first found kept), in order of discovery."""
     kept = []
     scales = problem.reduced.tangent_scales
+    same = max(_SAME, _STALL * math.sqrt(tolerance))
     for item in found:
-        if all(np.linalg.norm(problem.reduced.inverse_retract(other.free, item.free) / scales) > _SAME
+        if all(np.linalg.norm(problem.reduced.inverse_retract(other.free, item.free) / scales) > same
                for other in kept):
             kept.append(item)
     return kept
@@ -525,7 +529,7 @@ def _check_options(method, count, tolerance, rng):
 def _enumerate(problem, start, rng, count, tolerance, guess_point=None):
     """The distinct assemblies sorted by branch, whether they are isolated, and the smallest residual."""
     found, smallest = _search(problem, rng, count, tolerance, guess_point)
-    distinct = _distinct(problem, ([start] if start is not None else []) + found)
+    distinct = _distinct(problem, ([start] if start is not None else []) + found, tolerance)
     isolated = all(_isolated(problem, item.free) for item in distinct)
     return sorted(distinct, key=lambda item: _sort_key(problem, item)), isolated, smallest
 

@@ -15,7 +15,7 @@ import pytest
 from builders import rsur
 from mechanisms import (
     CLOSURE_TOLERANCE, Assembly, AssemblyError, ConfigurationError, EndEffector, Joint, Mechanism, assemble,
-    assemblies, closes, configuration, constraint, link_pose,
+    assemblies, closes, configuration, constraint, kinematics_of, link_pose,
 )
 from mechanisms.catalogue import entry
 from mechanisms.catalogue.five_bar import WORKING_MODES, five_bar
@@ -377,3 +377,18 @@ def test_random_starts_find_the_gough_stewart_platforms_other_assemblies():
         if not any(np.allclose(pose, other, atol=1e-6) for other in poses):
             poses.append(pose)
     assert len(poses) >= 4
+
+
+@pytest.mark.parametrize("seed", [0, 1])
+def test_starts_stalled_near_a_singular_assembly_are_one_assembly(seed):
+    """The Eclipse's Fig. 10 home is an actuator singularity, a double root of the fibre: Newton stalls about
+    √‖Φ‖ (1e-5) from it, and random starts that reached it were returned as up to 4 more assemblies 1.4e-5 to
+    3.6e-5 away (solutions within 100 √tolerance are now one assembly)."""
+    mechanism = entry("eclipse").mechanism("fig10_actuator")
+    ambient = kinematics_of(mechanism).ambient
+    found = assemblies(mechanism, {joint.name: 0.0 for joint in mechanism.joints if joint.actuated},
+                       np.random.default_rng(seed))
+    points = np.array([item.point for item in found])
+    for index, point in enumerate(points):
+        for other in points[:index]:
+            assert np.linalg.norm(ambient.inverse_retract(other, point) / ambient.tangent_scales) > 1e-3

@@ -119,6 +119,20 @@ def test_the_closing_map_vanishes_on_m_with_dphi_as_its_jacobian_there(name):
 
 
 @pytest.mark.parametrize("name", ["five-bar", "spherical four-bar", "RSUR pose"])
+def test_a_point_that_is_not_finite_gives_nan_closing_rows_and_leaves_the_others(name):
+    """As Φ: scipy's Rotation.from_matrix raised LinAlgError on a NaN matrix, failing the whole stack."""
+    mechanism = MECHANISMS[name]()
+    closing = configuration_space(mechanism).closing
+    points = np.stack([home(mechanism)] * 3)
+    points[1, 0] = np.nan
+    points[2, 0] = np.inf
+    with np.errstate(invalid="ignore"):
+        rows, phi = closing.constraint(points), constraint(mechanism, points)
+    assert np.all(np.isnan(rows[1:, :1])) and np.linalg.norm(rows[0]) < 1e-12
+    np.testing.assert_array_equal(np.isnan(rows), np.isnan(phi))
+
+
+@pytest.mark.parametrize("name", ["five-bar", "spherical four-bar", "RSUR pose"])
 def test_a_half_turn_is_a_zero_of_phi_but_not_of_the_closing_map(name):
     """Gauss-Newton from random points of K ends at half-turns, zeros of Φ that `closes` rejects; the closing
     map's rotation rows (one loop here) are a rotation vector of length π there (so manifold.sample_manifold
