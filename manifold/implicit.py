@@ -99,8 +99,8 @@ class ImplicitManifold:
         ``form(point, left, right) -> array, shape=[..., c, i, j]``:
         ``D²Φ(point)(left[:, i], right[:, j])`` without the c×k×k Hessian.
     closing : ImplicitManifold, optional
-        The same M as the zero set of another map without Φ's spurious zeros, its Jacobian exact on M
-        at least: :func:`manifold.sample_manifold` projects random points of K onto it first, then onto
+        The same M as the zero set of another map without Φ's spurious zeros, with its Jacobian:
+        :func:`manifold.sample_manifold` projects random points of K onto it first, then onto
         Φ (e.g. a mechanism's loops, whose Φ also vanishes at half-turns).
     """
 

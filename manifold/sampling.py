@@ -21,9 +21,9 @@ __all__ = ["LocalRank", "local_rank", "sample_manifold", "largest_rank"]
 #: a random point is projected onto ``manifold.closing`` until its residual is below this (then onto Φ, to
 #: Φ's own tolerance): close enough that Gauss-Newton on Φ converges to the same point of M
 CLOSING_TOLERANCE = 1e-6
-#: iterations allowed on the closing map, whose Jacobian is exact on M only: from far away its steps wander
-#: (of 24 random starts of an RSUR, 20 converged within 100 iterations, 22 within 300; a start that never
-#: converges costs all of them)
+#: iterations allowed on the closing map: from far away Gauss-Newton's steps wander (the map jumps across
+#: half-turns and has local minima) (of 24 random starts of an RSUR, 20 converged within 100 iterations, 22
+#: within 300; a start that never converges costs all of them)
 CLOSING_ITERATIONS = 100
 
 

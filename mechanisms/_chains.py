@@ -644,10 +644,15 @@ def loop_closing(space, group, point, length):
     """Rows and entries of the closing map of spherical or spatial loops
     (:func:`mechanisms.kinematics.closing_space`).
 
-    Rows ``(φ n, p / ℓ)`` for the loop product ``T = [R, p]``, φ n the rotation vector of R (zero only where
-    R = I: the half-turns, zeros of Φ's ``½ vee(R − Rᵀ) = sin φ n``, give φ = π). Entries ``(ω, (ω × p + v) / ℓ)``
-    for the carried twists ``W = (ω, v)`` (:func:`carried_twists`): the translation rows' derivative exactly,
-    the rotation vector's to first order in φ (exact at R = I, so on M they are DΦ's entries).
+    Rows ``(r, p / ℓ)`` for the loop product ``T = [R, p]``, r = φ n the rotation vector of R (zero only where
+    R = I: the half-turns, zeros of Φ's ``½ vee(R − Rᵀ) = sin φ n``, give φ = π). Entries, exact everywhere,
+    ``(J⁻¹(r) ω, (ω × p + v) / ℓ)`` for the carried twists ``W = (ω, v)`` (:func:`carried_twists`: ``Ṙ Rᵀ = ω̂``),
+    with the inverse left Jacobian of SO(3)
+
+        J⁻¹(r) = I − ½ r̂ + (1/φ² − 1/(2 φ tan(φ/2))) r̂²
+
+    (``dr = J⁻¹(r) ω``; its last factor is 1/12 + φ²/720 + … near φ = 0 and 1/π² at φ = π). At R = I it is
+    the identity, so on M the entries are DΦ's.
 
     Returns
     -------
@@ -663,12 +668,19 @@ def loop_closing(space, group, point, length):
     vectors = np.full(flat.shape[:-1], np.nan)
     if finite.any():
         vectors[finite] = Rotation.from_matrix(flat[finite]).as_rotvec()
-    vectors = vectors.reshape(rotation.shape[:-1])
+    vectors = vectors.reshape(rotation.shape[:-1])                      # r, [..., g, 3]
+    angle = np.linalg.norm(vectors, axis=-1)[..., None]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        factor = np.where(angle < 1e-4, 1.0 / 12.0 + angle ** 2 / 720.0,
+                          1.0 / angle ** 2 - 1.0 / (2.0 * angle * np.tan(angle / 2.0)))
+    broadcast = np.broadcast_to(vectors[..., None, :], angular.shape)
+    across = _cross(broadcast, angular)                                  # r̂ ω
+    rates = angular - 0.5 * across + factor[..., None, :] * _cross(broadcast, across)
     if space == "spherical":
-        return vectors, angular
+        return vectors, rates
     moved = (_cross(angular, np.broadcast_to(product[..., None, :3, 3], angular.shape)) + linear) / length
     rows = np.concatenate([vectors, product[..., :3, 3] / length], axis=-1)
-    return rows, np.concatenate([angular, moved], axis=-1)
+    return rows, np.concatenate([rates, moved], axis=-1)
 
 
 def first_derivatives(space, group, point):

@@ -317,10 +317,10 @@ def closing_space(mechanism):
     from a random point of K ends there for most loops: the rotation angle of a random rotation exceeds
     π/2 with probability 0.82, so with 5 loops (a Gough-Stewart platform) every one of 24 random starts of
     the survey did. The closing map's rotation rows are the rotation vector φ n (the angle arg r in the
-    plane), zero only at R = I; its Jacobian is DΦ's with those rows' derivative taken at R = I (exact in
-    the plane), the carried twists' ω, so Gauss-Newton converges to the same points of M, quickly once
-    close (:func:`manifold.sample_manifold` projects onto this map, then onto Φ). Same rows, pattern and
-    scaling as Φ.
+    plane), zero only at R = I, discontinuous across φ = π (where Φ has its half-turns); its Jacobian is
+    its derivative (:func:`mechanisms._chains.loop_closing`), equal to DΦ on M, so Gauss-Newton converges
+    to the same points of M (:func:`manifold.sample_manifold` projects onto this map, then onto Φ). Same
+    rows, pattern and scaling as Φ.
     """
     compiled = kinematics_of(mechanism)
 
