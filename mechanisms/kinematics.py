@@ -323,9 +323,14 @@ def closing_space(mechanism):
     rows, pattern and scaling as Φ.
     """
     compiled = kinematics_of(mechanism)
+    last = [None]  # ((shape, bytes), (rows, entries)) of the last point: Gauss-Newton asks rows, then entries
 
     def rows_and_entries(point):
         point = _as_points(mechanism, point)
+        key = (point.shape, point.tobytes())
+        cached = last[0]
+        if cached is not None and cached[0] == key:
+            return tuple(array.copy() for array in cached[1])  # copies: a caller may write into its arrays
         batch = point.shape[:-1]
         rows, entries = [], []
         for group in compiled.loop_groups:
@@ -338,8 +343,9 @@ def closing_space(mechanism):
         values = np.zeros(batch + (len(compiled.loops), groups.LOOP_ROWS[compiled.space]))
         for chains_of_group, group_rows in rows:
             values[..., chains_of_group, :] = group_rows
-        return (_flattened(values, batch),
-                np.concatenate(entries, axis=-1) if entries else np.zeros(batch + (0,)))
+        result = (_flattened(values, batch), np.concatenate(entries, axis=-1) if entries else np.zeros(batch + (0,)))
+        last[0] = (key, result)  # one assignment: another thread sees the old pair or the new one
+        return tuple(array.copy() for array in result)
 
     def jacobian(point):
         entries = rows_and_entries(point)[1]

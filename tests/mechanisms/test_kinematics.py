@@ -118,6 +118,22 @@ def test_the_closing_map_vanishes_on_m_with_dphi_as_its_jacobian_there(name):
         assert slope > 1.9, slope
 
 
+def test_the_closing_maps_last_point_is_kept_but_its_arrays_are_the_callers():
+    """Gauss-Newton asks the rows, then the Jacobian, at one point: the closing map computes both once and keeps
+    them for the next call at the same point, handing out copies (a caller writing into them changes nothing)."""
+    mechanism = MECHANISMS["RSUR pose"]()
+    closing = configuration_space(mechanism).closing
+    point = kinematics_of(mechanism).ambient.random_point(np.random.default_rng(16))
+    rows, jacobian = closing.constraint(point), closing.constraint_jacobian(point)
+    expected = rows.copy(), jacobian.copy()
+    rows[:] = 7.0
+    np.testing.assert_array_equal(closing.constraint(point), expected[0])
+    closing.constraint_jacobian(point)[:] = 7.0
+    np.testing.assert_array_equal(closing.constraint_jacobian(point), expected[1])
+    other = closing.constraint(point + 0.1)
+    assert not np.allclose(other, expected[0])
+
+
 @pytest.mark.parametrize("name", ["five-bar", "spherical four-bar", "RSUR pose"])
 def test_a_point_that_is_not_finite_gives_nan_closing_rows_and_leaves_the_others(name):
     """As Φ: scipy's Rotation.from_matrix raised LinAlgError on a NaN matrix, failing the whole stack."""
