@@ -47,27 +47,59 @@ def _translation(vector):
     return matrix
 
 
+class _Names:
+    """Names of one kind of element (links, joints or frames): the file's own first, then made-up ones.
+
+    A name the import makes up (an unnamed element's ``body3``, an intermediate link ``a#1``, a fixed joint
+    ``a#fixed``, a connect's frames ``equality1:A``) never takes a name the file gives: it gets ``~2``, ``~3``…
+    (an unnamed connect called like a named one replaced its frames and dropped a closure; a body named
+    ``a#1`` made the tree a cycle, and the import never ended).
+    """
+
+    def __init__(self, given):
+        self.taken = {name for name in given if name}
+
+    def made_up(self, candidate):
+        name, number = candidate, 1
+        while name in self.taken:
+            number += 1
+            name = f"{candidate}~{number}"
+        self.taken.add(name)
+        return name
+
+
 def tree_from_mjcf(model, source="MJCF"):
     """(kinematic tree, closures) of a compiled ``mujoco.MjModel``."""
     import mujoco
 
-    def name(kind, index, fallback):
-        return mujoco.mj_id2name(model, kind, index) or f"{fallback}{index}"
+    def given(kind, count):
+        return [mujoco.mj_id2name(model, kind, index) for index in range(count)]
 
-    bodies = [name(mujoco.mjtObj.mjOBJ_BODY, index, "body") for index in range(model.nbody)]
+    def named(kind, count, fallback, names):
+        return [item or names.made_up(f"{fallback}{index}") for index, item in enumerate(given(kind, count))]
+
+    objects = mujoco.mjtObj
+    link_names = _Names(given(objects.mjOBJ_BODY, model.nbody))
+    joint_names = _Names(given(objects.mjOBJ_JOINT, model.njnt))
+    frame_names = _Names(given(objects.mjOBJ_SITE, model.nsite))
+    bodies = named(objects.mjOBJ_BODY, model.nbody, "body", link_names)
+    joint_labels = named(objects.mjOBJ_JOINT, model.njnt, "joint", joint_names)
+    sites = named(objects.mjOBJ_SITE, model.nsite, "site", frame_names)
+    equalities = named(objects.mjOBJ_EQUALITY, model.neq, "equality", _Names(given(objects.mjOBJ_EQUALITY, model.neq)))
     links, joints, notes = [bodies[0]], [], []
     for body in range(1, model.nbody):
         parent = bodies[model.body_parentid[body]]
         placement = _pose(model.body_pos[body], model.body_quat[body])
         start, count = model.body_jntadr[body], model.body_jntnum[body]
         if count <= 0:
-            joints.append(TreeJoint(f"{bodies[body]}#fixed", "fixed", parent, bodies[body], placement))
+            joints.append(TreeJoint(joint_names.made_up(f"{bodies[body]}#fixed"), "fixed", parent, bodies[body],
+                                    placement))
             links.append(bodies[body])
             continue
         for offset in range(count):
             index = start + offset
-            joint_name = name(mujoco.mjtObj.mjOBJ_JOINT, index, "joint")
-            child = bodies[body] if offset == count - 1 else f"{bodies[body]}#{offset + 1}"
+            joint_name = joint_labels[index]
+            child = bodies[body] if offset == count - 1 else link_names.made_up(f"{bodies[body]}#{offset + 1}")
             links.append(child)
             position = np.array(model.jnt_pos[index], dtype=float)
             axis = np.array(model.jnt_axis[index], dtype=float)
@@ -84,47 +116,45 @@ def tree_from_mjcf(model, source="MJCF"):
             parent, placement = child, np.eye(4)
     frames = {}
     for site in range(model.nsite):
-        frames[name(mujoco.mjtObj.mjOBJ_SITE, site, "site")] = (
-            bodies[model.site_bodyid[site]], _pose(model.site_pos[site], model.site_quat[site]))
+        frames[sites[site]] = (bodies[model.site_bodyid[site]], _pose(model.site_pos[site], model.site_quat[site]))
     loops, types = [], []
     for index in range(model.neq):
+        label = equalities[index]
         if not model.eq_active0[index]:
-            notes.append(f"equality {name(mujoco.mjtObj.mjOBJ_EQUALITY, index, 'equality')!r} is inactive "
-                         f"(active=\"false\"): not a loop closure")
+            notes.append(f"equality {label!r} is inactive (active=\"false\"): not a loop closure")
             continue
         kind = int(model.eq_type[index])
         data = np.asarray(model.eq_data[index], dtype=float)
-        objects = (int(model.eq_obj1id[index]), int(model.eq_obj2id[index]))
-        if int(model.eq_objtype[index]) == int(mujoco.mjtObj.mjOBJ_SITE):
-            first, second = (frames_name for frames_name in (name(mujoco.mjtObj.mjOBJ_SITE, item, "site")
-                                                             for item in objects))
-            loops.append((first, second))
+        ends = (int(model.eq_obj1id[index]), int(model.eq_obj2id[index]))
+        if int(model.eq_objtype[index]) == int(objects.mjOBJ_SITE):
+            loops.append((sites[ends[0]], sites[ends[1]]))
             types.append("3d" if kind == int(mujoco.mjtEq.mjEQ_CONNECT) else "6d")
             continue
-        first, second = (bodies[item] for item in objects)
-        label = name(mujoco.mjtObj.mjOBJ_EQUALITY, index, "equality")
+        first, second = (bodies[item] for item in ends)
+        anchors = frame_names.made_up(f"{label}:A"), frame_names.made_up(f"{label}:B")
         if kind == int(mujoco.mjtEq.mjEQ_CONNECT):
-            frames[f"{label}:A"] = (first, _translation(data[0:3]))
-            frames[f"{label}:B"] = (second, _translation(data[3:6]))
+            frames[anchors[0]] = (first, _translation(data[0:3]))
+            frames[anchors[1]] = (second, _translation(data[3:6]))
             types.append("3d")
         elif kind == int(mujoco.mjtEq.mjEQ_WELD):
-            frames[f"{label}:A"] = (first, _pose(data[3:6], data[6:10]))
-            frames[f"{label}:B"] = (second, np.eye(4))
+            frames[anchors[0]] = (first, _pose(data[3:6], data[6:10]))
+            frames[anchors[1]] = (second, np.eye(4))
             types.append("6d")
         else:
             kinds = {int(mujoco.mjtEq.mjEQ_JOINT): "joint", int(mujoco.mjtEq.mjEQ_TENDON): "tendon"}
             raise MechanismError(f"{source}: equality {label!r}: a {kinds.get(kind, 'non-geometric')} equality is "
                                  f"not supported (only connect and weld, the loop closures; a coupling of joint or "
                                  f"tendon values is not one)")
-        loops.append((f"{label}:A", f"{label}:B"))
+        loops.append(anchors)
     actuated, elsewhere = [], []
+    actuators = named(objects.mjOBJ_ACTUATOR, model.nu, "actuator", _Names(given(objects.mjOBJ_ACTUATOR, model.nu)))
     for index in range(model.nu):
         if int(model.actuator_trntype[index]) == int(mujoco.mjtTrn.mjTRN_JOINT):
-            joint_name = name(mujoco.mjtObj.mjOBJ_JOINT, int(model.actuator_trnid[index][0]), "joint")
+            joint_name = joint_labels[int(model.actuator_trnid[index][0])]
             if joint_name not in actuated:
                 actuated.append(joint_name)
         else:
-            elsewhere.append(name(mujoco.mjtObj.mjOBJ_ACTUATOR, index, "actuator"))
+            elsewhere.append(actuators[index])
     if elsewhere:
         notes.append(f"actuators that drive no joint (a tendon, site or body) are not counted: {', '.join(elsewhere)}")
     notes.insert(0, f"world body {bodies[0]!r} is the ground")
@@ -194,3 +224,10 @@ def _check_finite(model, path):
             what = ("is not finite (NaN or infinity)" if not np.all(np.isfinite(values[index]))
                     else f"is beyond ±{COORDINATE_LIMIT:g} (as in a mechanism file)")
             raise MechanismError(f"{path}: MJCF: {kind.lower()} {element!r}: its {meaning} {what}")
+    axial = np.isin(model.jnt_type, [int(mujoco.mjtJoint.mjJNT_HINGE), int(mujoco.mjtJoint.mjJNT_SLIDE)])
+    lengths = np.linalg.norm(np.asarray(model.jnt_axis, dtype=float).reshape(-1, 3), axis=1)
+    if np.any(axial & ~(lengths > 0.5)):  # MuJoCo normalises the axis: 0 where it was zero or overflowed
+        index = int(np.flatnonzero(axial & ~(lengths > 0.5))[0])
+        element = mujoco.mj_id2name(model, mujoco.mjtObj.mjOBJ_JOINT, index) or f"number {index}"
+        raise MechanismError(f"{path}: MJCF: joint {element!r}: its axis has no direction (MuJoCo compiled it to "
+                             f"0 0 0: a zero axis, or one too large to normalise)")

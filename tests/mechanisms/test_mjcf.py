@@ -78,6 +78,8 @@ def test_mjcf_compiler_errors_are_one_line(tmp_path):
     (r'anchor="[^"]*"', 'anchor="inf 0 0"', "equality 'tip': its anchor or relpose is not finite"),
     (r'(<joint name="B" type="hinge" axis="0 0 1")', r'\1 pos="1e300 0 0"', "joint 'B': its pos is beyond ±1e\\+12"),
     (r'anchor="[^"]*"', 'anchor="1e300 0 0"', "equality 'tip': its anchor or relpose is beyond"),
+    # MuJoCo normalises 1e300 to 0 0 0: the import divided by its norm and ended in a LinAlgError
+    (r'axis="0 0 1"', 'axis="0 0 1e300"', "joint 'A': its axis has no direction"),
 ])
 def test_non_finite_or_huge_geometry_is_refused_in_one_line(tmp_path, capfd, pattern, replacement, message):
     """MuJoCo compiles NaN and infinity with a warning on stdout; the import used to end in a LinAlgError."""
@@ -105,3 +107,27 @@ def test_an_inactive_connect_is_said_not_to_close_a_loop(tmp_path):
     imported = read_mjcf(path)
     assert imported.mechanism.loop_count == 0
     assert any("equality 'tip' is inactive" in note for note in imported.notes)
+
+
+def test_made_up_names_never_take_a_name_the_file_gives(tmp_path):
+    """An unnamed connect was called ``equality1`` like the named one, whose frames it replaced: the five-bar lost
+    its tip closure and was classified with 1 loop instead of 2, exit 0. A body named ``a#1`` was also the name of
+    the intermediate link of body ``a``'s two hinges: the tree became a cycle and the import never ended."""
+    from mechanisms.mjcf import read_mjcf
+
+    text = five_bar_xml(entry("five-bar").mechanism()).replace(
+        '<connect name="tip"', '<connect name="equality1"').replace(
+        "</equality>", '<connect body1="distal_left" body2="world" anchor="0 0 0"/></equality>')
+    path = tmp_path / "two_connects.xml"
+    path.write_text(text, encoding="utf-8")
+    assert read_mjcf(path).mechanism.loop_count == 2
+    path = tmp_path / "intermediate.xml"
+    path.write_text("""<mujoco><worldbody>
+  <body name="a"><joint name="j1" type="hinge" axis="0 0 1"/><joint name="j2" type="hinge" axis="1 0 0"/>
+    <geom size="0.1"/>
+    <body name="a#1" pos="1 0 0"><joint name="j3" type="hinge" axis="0 0 1"/><geom size="0.1"/></body>
+  </body>
+</worldbody></mujoco>""", encoding="utf-8")
+    mechanism = read_mjcf(path).mechanism
+    assert {"a", "a#1", "a#1~2"} <= set(mechanism.links) and [joint.name for joint in mechanism.joints] == [
+        "j1", "j2", "j3"]
