@@ -593,7 +593,8 @@ def carried_twists(space, group, point):
     for number in range(group.length):
         prefix.append(prefix[-1] @ matrices[..., number, :, :])
     slots = group.slots
-    at_slots = np.stack([prefix[slot] for slot in slots], axis=-3)    # [..., g, C, n, n]
+    at_slots = (np.stack([prefix[slot] for slot in slots], axis=-3) if len(slots)   # [..., g, C, n, n]
+                else np.zeros(prefix[0].shape[:-2] + (0,) + prefix[0].shape[-2:]))  # no coordinate: the ground's
     twists = group.twists                                             # [g, C, n, n]
     axes = np.stack([twists[..., 2, 1], twists[..., 0, 2], twists[..., 1, 0]], axis=-1)  # ω, [g, C, 3]
     rotations = at_slots[..., :3, :3]

@@ -327,3 +327,23 @@ def test_first_order_closed_forms_equal_the_matrix_products(name):
     expected = np.zeros(batch + (columns.shape[-1], compiled.ambient.dim))
     expected[..., :, group.columns[0]] = np.swapaxes(columns, -1, -2)
     np.testing.assert_allclose(end_effector_jacobian(mechanism, points), expected, rtol=0, atol=1e-13)
+
+
+@pytest.mark.parametrize("output", ["position", "pose"])
+def test_an_end_effector_on_the_ground_never_moves(output):
+    """Its chain has no coordinate: the spatial carried twists stacked an empty list (an internal error of
+    ``closedchain classify``), where the planar ones gave J = 0. Now J and its derivative are 0 in every space."""
+    from mechanisms import Joint
+
+    joints = [Joint("a", "R", ("g", "l1"), point=(0, 0, 0), axis=(0, 0, 1), actuated=True),
+              Joint("b", "R", ("l1", "l2"), point=(1, 0, 0), axis=(0, 0, 1)),
+              Joint("c", "R", ("l2", "l3"), point=(1, 1, 0), axis=(0, 0, 1)),
+              Joint("d", "R", ("l3", "g"), point=(0, 1, 0), axis=(0, 0, 1))]
+    mechanism = Mechanism("four-bar", "spatial", joints, "g", EndEffector("g", (0.5, 0.5, 0.0), output))
+    point = home(mechanism)
+    assert not np.any(end_effector_jacobian(mechanism, point))
+    assert not np.any(end_effector_hessian(mechanism, point))
+    from classify import classify
+
+    report = classify(mechanism, point)
+    assert report.kinds == () and (report.end_effector.rank, report.end_effector.expected_rank) == (0, 0)
