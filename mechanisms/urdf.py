@@ -260,7 +260,7 @@ def _check_tree(links, joints, source):
 
 def _parse_urdf(text, source):
     """The yourdfpy robot of a URDF text, with every parser error as one MechanismError line."""
-    lowered = text[:4096].lower() + text.lower().count("<!entity") * " <!entity"
+    lowered = text.lower()  # the whole text (a DOCTYPE after a long comment set attribute defaults unseen)
     if "<!doctype" in lowered or "<!entity" in lowered:
         raise MechanismError(f"{source}: URDF: a <!DOCTYPE> or <!ENTITY> declaration is not accepted")
     import logging

@@ -163,9 +163,10 @@ def _run_single(arguments, out):
         if distance:
             out.write(f"projected onto the C-space: moved by {distance:.3g}\n")
         if assembly is not None:
-            out.write(f"assembled with {', '.join(printable(name) for name in assembly['held'])} held: "
-                      f"branch {assembly['branch']} of {assembly['branches']} found, residual "
-                      f"{assembly['residual']:.1e}\n")
+            found = ("not an isolated assembly (the held joints leave it free to move), so not numbered"
+                     if assembly["branch"] is None else f"branch {assembly['branch']} of {assembly['branches']} found")
+            out.write(f"assembled with {', '.join(printable(name) for name in assembly['held'])} held: {found}, "
+                      f"residual {assembly['residual']:.1e}\n")
         out.write(report.to_text() + "\n")
 
 

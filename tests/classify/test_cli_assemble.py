@@ -40,6 +40,13 @@ def test_branches_are_selected_and_named_in_the_text(capsys):
     assert status == 0 and "branch 0 of 2" in text
 
 
+def test_an_assembly_that_is_not_isolated_is_said_so(capsys):
+    """The 5-SPU's five legs leave the tool's spin free: no branch number, which the text printed as
+    "branch None of None found"."""
+    status, text, _ = run(["classify", "5-spu", "--at", '{"P1": 0.01}', "--assemble"], capsys)
+    assert status == 0 and "None" not in text and "not an isolated assembly" in text
+
+
 @pytest.mark.parametrize("arguments, fragment", [
     (["--at", '{"J1": 3.0}', "--assemble"], "no assembly with J1 = 3.0"),
     (["--at", '{"J1": 0.1}', "--assemble", "--branch", "7"], "branch 7"),

@@ -215,6 +215,9 @@ def test_closures_types_default_to_6d_and_read_case_insensitively():
                                            "<child link='built'/></joint></robot>"), "cycle"),
     (lambda text: text[:len(text) // 2], "URDF: cannot parse"),
     (lambda text: '<!DOCTYPE r [<!ENTITY e SYSTEM "file:///etc/passwd">]>' + text, "DOCTYPE"),
+    # after a long comment: only the first 4096 characters were read, and its ATTLIST defaults filled in axes
+    (lambda text: text.replace('<robot name="onshape">', "<!--" + " " * 4100 + '-->\n<!DOCTYPE robot '
+                               '[<!ATTLIST axis xyz CDATA "0 0 1">]>\n<robot name="onshape">', 1), "DOCTYPE"),
     (lambda text: text.replace('type="revolute"', 'type="planar"', 1), "'planar' joint is not supported"),
     # the parser's own words named no element: 'could not broadcast…', 'could not convert string to float', 'name'
     (lambda text: text.replace('<origin xyz="0 0 0" rpy="0 -0 0" />', '<origin xyz="0.1 0.15" />', 1),
