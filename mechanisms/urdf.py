@@ -774,13 +774,18 @@ def _build(tree, bodies, closures, closure, point, poses, frames, name, descript
     notes = []
     if bodies.merged:
         notes.append(f"{len(bodies.merged)} fixed joint(s) merged into their links")
-    welded = []
+    welded, idle = [], []
     for (kind, body_a, _, body_b, _), pair in zip(closure.loops, closures.loops):
-        if kind == "6d" and union.find(body_a) != union.find(body_b):
+        if kind != "6d":
+            continue
+        if union.find(body_a) != union.find(body_b):
             union.join(body_a, body_b)
             welded.append(f"{body_b!r} into {body_a!r}")
+        else:  # dropped without a word before (the 3d case below says so)
+            idle.append(f"6d closure {list(pair)} joins one rigid link: left out")
     if welded:
         notes.append("6d closures weld links: " + ", ".join(welded))
+    notes += idle
     actuated = set(closures.actuated if motors is None else motors)
     joints, locked = [], []
     for joint, frame, parent, child, part in zip(bodies.movable, frames, bodies.parents, bodies.children,

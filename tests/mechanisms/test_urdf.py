@@ -245,3 +245,13 @@ def test_joint_names_resolve_to_their_child_frames(tmp_path):
     by_joints = read_urdf(urdf, closures_file)
     assert np.allclose([joint.point for joint in by_links.mechanism.joints],
                        [joint.point for joint in by_joints.mechanism.joints])
+
+
+@pytest.mark.parametrize("kind", ["3d", "6d"])
+def test_a_closure_within_one_rigid_link_is_left_out_and_said_so(kind):
+    """The joint 'closedloop1_A' and its child link 'sphere' are one frame: a closure between them constrains
+    nothing. The 3d case said so in the notes; the 6d one was dropped without a word."""
+    closures = closures_from_dict({"closed_loop": [["closedloop1_A", "sphere"]], "type": [kind]})
+    imported = read_urdf(ROBOTS / "5bar_linkage" / "robot.urdf", closures)
+    assert imported.mechanism.loop_count == 0
+    assert f"{kind} closure ['closedloop1_A', 'sphere'] joins one rigid link: left out" in imported.notes
