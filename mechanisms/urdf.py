@@ -53,7 +53,6 @@ too (:mod:`mechanisms.mjcf`).
 from __future__ import annotations
 
 import io
-import math
 from collections import deque
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -342,8 +341,9 @@ def _vector_fault(text):
         values = None
     if values is None or len(values) != 3:
         return "expected three numbers"
-    if any(abs(value) > COORDINATE_LIMIT for value in values if math.isfinite(value)):
-        return f"a number beyond ±{COORDINATE_LIMIT:g} (as in a mechanism file)"
+    words = [item.lower().lstrip("+-") in ("inf", "infinity", "nan") for item in parts]
+    if any(abs(value) > COORDINATE_LIMIT for value, word in zip(values, words) if not word):
+        return f"a number beyond ±{COORDINATE_LIMIT:g} (as in a mechanism file)"  # 1e400 and 5000 digits too
     return None
 
 

@@ -228,6 +228,9 @@ def test_closures_types_default_to_6d_and_read_case_insensitively():
     # overflow warnings, then the closures file blamed for loops that could not close
     (lambda text: text.replace('<origin xyz="0 0 0" rpy="0 -0 0" />', '<origin xyz="1e300 0 0" />', 1),
      "<origin xyz='1e300 0 0'>: a number beyond ±1e\\+12"),
+    # a numeral that overflows (not the word inf): let through, then trimesh's warnings and "not a finite pose"
+    (lambda text: text.replace('<origin xyz="0 0 0" rpy="0 -0 0" />', '<origin xyz="1e400 0 0" />', 1),
+     "<origin xyz='1e400 0 0'>: a number beyond ±1e\\+12"),
     (lambda text: text.replace('<origin xyz="0 0 0" rpy="0 -0 0" />', '<origin xyz="0&#10;x 0" />', 1),
      "<origin xyz='0\\\\nx 0'>: expected three numbers"),  # one line: the newline escaped
 ])
