@@ -561,11 +561,12 @@ def _choose_loose_part(setting, curve, v, image, loose, order):
         The change of the order-(j − 1) obstruction, C^T S_u J⁺ D²Φ(v, n) (zero to the cut of L_v).
     """
     count = loose.shape[1]
-    bend = -setting.pseudo_inverse @ setting.hessian.form(v[:, None], loose)[:, 0, :]   # x_{j−1}'s normal part, [k, d]
+    # x_{j−1}'s normal part per unit n, [k, d]
+    bend = -setting.pseudo_inverse @ setting.hessian.form(v[:, None], loose)[:, 0, :]
     follow = bend - setting.lift @ (setting.selection @ bend)
     step = float(_natural_scale(setting, curve)) ** (order - 3)
 
-    def shifted(points):                                                                # points [b, d] → curves [b, j−1, k]
+    def shifted(points):  # points [b, d] → curves [b, j−1, k]
         curves = np.repeat(curve[None], len(points), axis=0)
         curves[:, order - 3] += step * points @ loose.T
         curves[:, order - 2] += step * points @ follow.T
@@ -600,7 +601,7 @@ def _choose_loose_part(setting, curve, v, image, loose, order):
     sizes = np.linalg.norm(checked, axis=-1)
     good = np.flatnonzero(sizes <= max(floor, float(np.min(sizes))))
     best = good[np.argmin(np.linalg.norm(found[good], axis=-1))]
-    if not sizes[best] + floor < np.linalg.norm(centre):                               # a reduction beyond the fits' noise
+    if not sizes[best] + floor < np.linalg.norm(centre):  # a reduction beyond the fits' noise
         return curve, np.zeros(centre.size)
     chosen = found[best]
     moved = step * (setting.complement.T @ setting.selection @ bend @ chosen)

@@ -647,7 +647,8 @@ def loop_closing(space, group, point, length):
 
     Rows ``(r, p / ℓ)`` for the loop product ``T = [R, p]``, r = φ n the rotation vector of R (zero only where
     R = I: the half-turns, zeros of Φ's ``½ vee(R − Rᵀ) = sin φ n``, give φ = π). Entries, exact everywhere,
-    ``(J⁻¹(r) ω, (ω × p + v) / ℓ)`` for the carried twists ``W = (ω, v)`` (:func:`carried_twists`: ``Ṙ Rᵀ = ω̂``),
+    ``(J⁻¹(r) ω, (ω × p + v) / ℓ)`` for the carried twists ``W = (ω, v)``
+    (:func:`carried_twists`: ``Ṙ Rᵀ = ω̂``),
     with the inverse left Jacobian of SO(3)
 
         J⁻¹(r) = I − ½ r̂ + (1/φ² − 1/(2 φ tan(φ/2))) r̂²

@@ -243,7 +243,8 @@ def _fixed_lines(mechanism, link):
             touching.setdefault(joint.links[1] if joint.links[0] == link else joint.links[0], []).append(joint)
     for other, joints in touching.items():
         if len(joints) == 1 and joints[0].type == "P":
-            lines += [(np.asarray(point, dtype=float), unit(joints[0].axis)) for point in _fixed_points(mechanism, other)]
+            axis = unit(joints[0].axis)
+            lines += [(np.asarray(point, dtype=float), axis) for point in _fixed_points(mechanism, other)]
     return lines
 
 
@@ -255,7 +256,8 @@ WELL_CROSSED = 0.2
 def _nearest_point(points, axes):
     """The point nearest to lines (points pᵢ, unit axes aᵢ; shape=[lines, n] each), kept near the points.
 
-    With Pᵢ = I − aᵢaᵢᵀ (the projection across line i), p̄ the centroid of the pᵢ and ΣPᵢ = Σ λ e eᵀ,
+    With Pᵢ = I − aᵢaᵢᵀ (the projection across line i), p̄ the centroid of the pᵢ and
+    ΣPᵢ = Σ λ e eᵀ,
 
         c = p̄ + Σ_e w(λ / λ_max) (eᵀ Σ Pᵢ(pᵢ − p̄) / λ) e,
 
