@@ -412,10 +412,15 @@ def tree_from_urdf(text, source="URDF"):
             raise MechanismError(f"{source}: joint {joint.name!r}: field 'type': a floating joint inside the tree "
                                  f"(its parent {joint.parent!r} is not the base link {root!r}) is not supported: "
                                  f"a free body is not a mechanism's link")
-        notes.append(f"floating joint {joint.name!r} (the floating base) held fixed")
+        notes.append(_floating_note(joint.name))
     frames = {joint.name: (joint.child, np.eye(4)) for joint in joints if joint.name not in links}
     return KinematicTree(robot.name or "robot", root, links, tuple(joints), frames, tuple(notes),
                          tuple(mimics))
+
+
+def _floating_note(name):
+    """The note of a floating base joint held fixed (:func:`retype` replaces it where the joint is re-typed)."""
+    return f"floating joint {name!r} (the floating base) held fixed"
 
 
 def retype(tree, closures, source="closures file"):
@@ -459,7 +464,12 @@ def retype(tree, closures, source="closures file"):
             joint = TreeJoint(joint.name, "U", joint.parent, joint.child, joint.placement,
                               (np.eye(3)[first], np.eye(3)[second]), joint.child_offset)
         joints.append(joint)
-    return KinematicTree(tree.name, tree.root, tree.links, tuple(joints), tree.frames, (*tree.notes, *notes),
+    kept = []
+    for note in tree.notes:  # a floating base re-typed is no longer held fixed: said so, not the opposite
+        name = next((name for name in retyped if note == _floating_note(name)), None)
+        kept.append(note if name is None else
+                    f"floating joint {name!r} (the floating base) re-typed {retyped[name]} by the closures file")
+    return KinematicTree(tree.name, tree.root, tree.links, tuple(joints), tree.frames, (*kept, *notes),
                          tree.mimics)
 
 

@@ -258,3 +258,19 @@ def test_a_closure_within_one_rigid_link_is_left_out_and_said_so(kind):
     imported = read_urdf(ROBOTS / "5bar_linkage" / "robot.urdf", closures)
     assert imported.mechanism.loop_count == 0
     assert f"{kind} closure ['closedloop1_A', 'sphere'] joins one rigid link: left out" in imported.notes
+
+
+def test_a_floating_base_retyped_is_not_said_to_be_held_fixed(tmp_path):
+    """A closures file may re-type the floating base (here SPHERICAL: three coordinates); the notes still said
+    it was held fixed."""
+    import dataclasses
+
+    text = FIVE_BAR_URDF.replace('<robot name="onshape">', '<robot name="onshape"><link name="world"/><joint '
+                                 'name="fl" type="floating"><parent link="world"/><child link="built"/></joint>', 1)
+    closures = read_closures(ROBOTS / "5bar_linkage" / "robot.yaml")
+    held = read_urdf(write(tmp_path, "held.urdf", text), closures)
+    assert "floating joint 'fl' (the floating base) held fixed" in held.notes
+    turned = read_urdf(write(tmp_path, "turned.urdf", text), dataclasses.replace(closures, retyped={"fl": "SPHERICAL"}))
+    assert "floating joint 'fl' (the floating base) re-typed SPHERICAL by the closures file" in turned.notes
+    assert not any("held fixed" in note and "'fl'" in note for note in turned.notes)
+    assert turned.mechanism.joint("fl").type == "S"
