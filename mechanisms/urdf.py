@@ -279,6 +279,8 @@ def _parse_urdf(text, source):
     return model.robot
 
 
+#: deepest nesting of elements read (lxml's limit, beyond which the parser recovers with what it has read)
+NESTING_LIMIT = 256
 #: per URDF element, the attributes and sub-elements (with their attribute) that the kinematics needs
 _REQUIRED = {"link": (("name",), ()), "joint": (("name", "type"), (("parent", "link"), ("child", "link")))}
 
@@ -297,6 +299,12 @@ def _diagnosis(text):
         return f"not well-formed XML ({error})"
     if root.tag != "robot":
         return f"the root element is <{root.tag}>, not <robot> (is this a URDF file?)"
+    depth, level = 0, [(root, 1)]
+    while level and depth <= NESTING_LIMIT:  # the parser reads no deeper, and said only "no link"
+        element, depth = level.pop()
+        level.extend((child, depth + 1) for child in element)
+    if depth > NESTING_LIMIT:
+        return f"elements nested more than {NESTING_LIMIT} deep (the URDF parser reads no deeper)"
     if "xmlns:xacro" in text or any("${" in value for element in root.iter() for value in element.attrib.values()):
         return "a xacro file (macros, ${...} expressions): expand it first, e.g. `xacro robot.urdf.xacro > robot.urdf`"
     if not root.get("name"):

@@ -228,6 +228,9 @@ def test_closures_types_default_to_6d_and_read_case_insensitively():
     # overflow warnings, then the closures file blamed for loops that could not close
     (lambda text: text.replace('<origin xyz="0 0 0" rpy="0 -0 0" />', '<origin xyz="1e300 0 0" />', 1),
      "<origin xyz='1e300 0 0'>: a number beyond ±1e\\+12"),
+    # deeper than the parser reads: it recovered with what it had read and said "URDF: no link"
+    (lambda text: text.replace('<robot name="onshape">', '<robot name="onshape">' + "<a>" * 300 + "</a>" * 300, 1),
+     "nested more than 256 deep"),
     # a numeral that overflows (not the word inf): let through, then trimesh's warnings and "not a finite pose"
     (lambda text: text.replace('<origin xyz="0 0 0" rpy="0 -0 0" />', '<origin xyz="1e400 0 0" />', 1),
      "<origin xyz='1e400 0 0'>: a number beyond ±1e\\+12"),
