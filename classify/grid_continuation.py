@@ -60,7 +60,6 @@ Used by ``closedchain map`` (:mod:`classify.cli.map_command`) and the loci
 
 from __future__ import annotations
 
-import functools
 import math
 import numbers
 from dataclasses import dataclass
@@ -278,15 +277,11 @@ def _correct(mechanism, points, free, iterations=_CORRECTOR_ITERATIONS, closing=
     residuals : ndarray, shape=[m]
         ‖Φ‖ at each (NaN where the iteration diverged).
     """
-    from mechanisms import kinematics
+    from mechanisms.kinematics import configuration_space
 
-    if closing:
-        space = kinematics.closing_space(mechanism)
-        value_of, jacobian_of = space.constraint, space.constraint_jacobian
-    else:
-        value_of = functools.partial(kinematics.constraint, mechanism)
-        jacobian_of = functools.partial(kinematics.constraint_jacobian, mechanism)
-    ambient = kinematics.kinematics_of(mechanism).ambient
+    space = configuration_space(mechanism)
+    space = space.closing if closing else space
+    value_of, jacobian_of, ambient = space.constraint, space.constraint_jacobian, space.ambient
     scales = ambient.tangent_scales[free]
     points = np.array(points, dtype=float)
     values = value_of(points)

@@ -361,6 +361,12 @@ class _Setting:
     rtol: float
     degree: int
 
+    @functools.cached_property
+    def heights(self):
+        """``Cᵀ S_u J⁺``, shape=[dim C, c]: minus the obstruction o_j of a constraint coefficient R_j before the
+        free components (module Notes)."""
+        return self.complement.T @ self.selection @ self.pseudo_inverse
+
     def solve(self, matrix, right_hand_side):
         """Least-squares solution of least norm, singular values ≤ rtol·σ_S·μ counted as zero (the
         cut of the forms Q, whose units `matrix` carries)."""
@@ -572,13 +578,11 @@ def _choose_loose_part(setting, curve, v, image, loose, order):
         curves[:, order - 2] += step * points @ follow.T
         return curves
 
-    heights = setting.complement.T @ setting.selection @ setting.pseudo_inverse                     # [dim C, c]
-
     def residuals(points):
         """o_j off range(L_v) at n = step·points, [b, dim C], and NOISE_FACTOR × the largest fit error."""
         values, errors = _constraint_coefficients(setting, shifted(points), order)
-        raw = -values[:, order] @ heights.T
-        floor = np.linalg.norm(heights, 2) * float(np.max(np.linalg.norm(errors[:, order], axis=-1)))
+        raw = -values[:, order] @ setting.heights.T
+        floor = np.linalg.norm(setting.heights, 2) * float(np.max(np.linalg.norm(errors[:, order], axis=-1)))
         return raw - (raw @ image) @ image.T, NOISE_FACTOR * floor
 
     unit = np.eye(count)
@@ -644,7 +648,7 @@ def _formal_curve(setting, direction, max_order):
             noise = _noise(setting, values, errors, order, scale)
         noise = max(noise, accepted, 10 * _EPSILON)
         if order > 2 and polar.size:
-            raw = -setting.complement.T @ setting.selection @ setting.pseudo_inverse @ remainder
+            raw = -setting.heights @ remainder
             free = others @ setting.solve(polar, -raw)
             coefficients[order - 2] = coefficients[order - 2] + setting.kernel @ free
             remainder = remainder + setting.hessian.form(v[:, None], (setting.kernel @ free)[:, None])[:, 0, 0]
@@ -682,8 +686,7 @@ def _cubic_obstructions(setting, directions):
     curves = np.stack([v, second], axis=-2)                                             # [B, 2, k]
     scale = _natural_scale(setting, curves)
     values, errors = _constraint_coefficients(setting, curves, 3)
-    raw = -np.einsum("ae,ap,pc,bc->be", setting.complement, setting.selection, setting.pseudo_inverse,
-                     values[:, 3], optimize=True)
+    raw = -values[:, 3] @ setting.heights.T
     obstruction = np.linalg.norm(raw, axis=-1) / (setting.actuator_scale * scale ** 2)
     noise = np.array([_noise(setting, values[b], errors[b], 3, scale[b]) for b in range(len(v))])
     return obstruction, np.maximum(noise, 10 * _EPSILON), curves, scale

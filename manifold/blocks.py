@@ -86,6 +86,18 @@ class JacobianPattern:
         object.__setattr__(self, "columns", columns)
         object.__setattr__(self, "nnz", int(rows.size))
 
+    def dense(self, entries):
+        """The matrices with `entries` (shape=[..., nnz], in the pattern's order) at the pattern and zeros
+        elsewhere, shape=[..., c, k].
+
+        >>> JacobianPattern((2, 3), [0, 1], [2, 0]).dense([5.0, 7.0]).tolist()
+        [[0.0, 0.0, 5.0], [7.0, 0.0, 0.0]]
+        """
+        entries = np.asarray(entries, dtype=float)
+        matrices = np.zeros(entries.shape[:-1] + self.shape)
+        matrices[..., self.rows, self.columns] = entries
+        return matrices
+
     @cached_property
     def _components(self):
         from scipy.sparse import coo_array

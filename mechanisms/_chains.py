@@ -512,7 +512,7 @@ def planar_twists(group, rotations, translations):
     return angular, rotations[..., slots] * linear - 1j * angular * translations[..., slots]
 
 
-def planar_loops(group, point, length, order=1):
+def planar_loops(group, point, length, order=1, closing=False):
     """Φ's rows, the half-turn test and DΦ's entries of planar loops, without 3×3 products.
 
     With the loop product ``T = (r, t)`` the rows ``L(T)`` are
@@ -522,6 +522,11 @@ def planar_loops(group, point, length, order=1):
     :func:`mechanisms._groups.loop_rows` of :func:`expand_group`'s
     derivatives, to rounding.
 
+    With `closing`, those of the closing map
+    (:func:`mechanisms.kinematics.closing_space`): the rotation row is
+    ``arg r``, zero only where T = I (the half-turn r = −1, a zero of
+    ``Im r``, gives ±π), and its entries ω, the exact ``∂ arg r/∂v``.
+
     Parameters
     ----------
     group : ChainGroup
@@ -530,6 +535,7 @@ def planar_loops(group, point, length, order=1):
         ℓ, the characteristic length.
     order : int
         0: rows and turns only.
+    closing : bool
 
     Returns
     -------
@@ -539,35 +545,16 @@ def planar_loops(group, point, length, order=1):
     """
     rotations, translations = planar_prefixes(group, point)
     rotation, translation = rotations[..., -1], translations[..., -1]
-    rows = np.stack([rotation.imag, translation.real / length, translation.imag / length], axis=-1)
+    turned = np.angle(rotation) if closing else rotation.imag
+    rows = np.stack([turned, translation.real / length, translation.imag / length], axis=-1)
     turns = rotation.real > 0.0
     if order < 1:
         return rows, turns, None
     angular, linear = planar_twists(group, rotations, translations)
     moved = linear + 1j * angular * translation[..., None]
-    entries = np.stack([angular * rotation.real[..., None], moved.real / length, moved.imag / length], axis=-1)
+    turning = np.broadcast_to(angular, moved.shape) if closing else angular * rotation.real[..., None]
+    entries = np.stack([turning, moved.real / length, moved.imag / length], axis=-1)
     return rows, turns, entries
-
-
-def planar_closing(group, point, length):
-    """Rows and entries of the closing map of planar loops (:func:`mechanisms.kinematics.closing_space`).
-
-    Rows ``(arg r, Re t / ℓ, Im t / ℓ)`` for the loop product ``T = (r, t)``: zero only where T = I (the
-    half-turn r = −1, a zero of Φ's ``Im r``, gives ±π). Entries those of :func:`planar_loops` with the
-    rotation row ω for ω Re r: the derivative of the angle is exact, ``∂ arg r/∂v = ω``.
-
-    Returns
-    -------
-    rows : ndarray, shape=[..., g, 3]
-    entries : ndarray, shape=[..., g, C, 3]
-    """
-    rotations, translations = planar_prefixes(group, point)
-    rotation, translation = rotations[..., -1], translations[..., -1]
-    rows = np.stack([np.angle(rotation), translation.real / length, translation.imag / length], axis=-1)
-    angular, linear = planar_twists(group, rotations, translations)
-    moved = linear + 1j * angular * translation[..., None]
-    entries = np.stack([np.broadcast_to(angular, moved.shape), moved.real / length, moved.imag / length], axis=-1)
-    return rows, entries
 
 
 # --------------------------------------------------------------------------- first order from prefixes only
@@ -637,8 +624,13 @@ def loop_first_order(space, group, point, length):
     rows = 0.5 * (trace * angular - _times(rotation[..., None, :, :], angular))
     if space == "spherical":
         return product, rows
-    moved = (_cross(angular, np.broadcast_to(product[..., None, :3, 3], angular.shape)) + linear) / length
-    return product, np.concatenate([rows, moved], axis=-1)
+    return product, np.concatenate([rows, _point_rates(product, angular, linear, length)], axis=-1)
+
+
+def _point_rates(product, angular, linear, length):
+    """The translation rows' entries ``(ω × p + v) / ℓ`` of loops ``T = [R, p]`` with carried twists
+    ``(ω, v)``: ∂p/∂v over ℓ, shape=[..., g, C, 3]."""
+    return (_cross(angular, np.broadcast_to(product[..., None, :3, 3], angular.shape)) + linear) / length
 
 
 def loop_closing(space, group, point, length):
@@ -680,9 +672,8 @@ def loop_closing(space, group, point, length):
     rates = angular - 0.5 * across + factor[..., None, :] * _cross(broadcast, across)
     if space == "spherical":
         return vectors, rates
-    moved = (_cross(angular, np.broadcast_to(product[..., None, :3, 3], angular.shape)) + linear) / length
     rows = np.concatenate([vectors, product[..., :3, 3] / length], axis=-1)
-    return rows, np.concatenate([rates, moved], axis=-1)
+    return rows, np.concatenate([rates, _point_rates(product, angular, linear, length)], axis=-1)
 
 
 def first_derivatives(space, group, point):

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import re
 
-__all__ = ["decimal_number", "decimal_integer", "exact_float", "Underflow"]
+__all__ = ["decimal_number", "decimal_integer", "exact_float", "is_word", "Underflow"]
 
 _DECIMAL = re.compile(r"[+-]?(?:\d+(?:\.\d*)?|\.\d+)(?:[eE][+-]?\d+)?", re.ASCII)
 _WORD = re.compile(r"[+-]?(?:inf|infinity|nan)", re.ASCII | re.IGNORECASE)
@@ -34,11 +34,17 @@ def decimal_number(text):
         as 0).
     """
     stripped = text.strip()
-    if _WORD.fullmatch(stripped):
+    if is_word(stripped):
         return float(stripped)
     if not _DECIMAL.fullmatch(stripped):
         raise ValueError(f"expected a number, got {text[:40]!r}")
     return exact_float(stripped)
+
+
+def is_word(text):
+    """Whether `text` (surrounding spaces allowed) is one of the words :func:`decimal_number` reads: inf,
+    infinity or nan, either case, with a sign or not."""
+    return _WORD.fullmatch(text.strip()) is not None
 
 
 def exact_float(text):

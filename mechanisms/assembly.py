@@ -105,7 +105,7 @@ from .configuration import from_displacements, home, to_displacements, validate_
 from .errors import ConfigurationError, MechanismError
 from .io import check_displacement
 from .joints import joint_coordinate_names, joint_factors
-from .kinematics import closes, closing_space, constraint, constraint_jacobian, kinematics_of
+from .kinematics import closes, configuration_space, constraint, constraint_jacobian, kinematics_of
 
 __all__ = ["AssemblyError", "Assembly", "ASSEMBLY_METHODS", "assemble", "assemblies"]
 
@@ -194,25 +194,19 @@ class _Problem:
         points[..., self.free_points] = free
         return points
 
-    def fibre(self, base=None):
-        """The fibre {q : Φ(h, q) = 0} over the held entries of `base` (default the targets)."""
+    def fibre(self, base=None, closing=False):
+        """The fibre {q : Φ(h, q) = 0} over the held entries of `base` (default the targets); with `closing`, as
+        the zero set of the closing map (:func:`mechanisms.kinematics.closing_space`: no half-turn zeros, for
+        random starts far from it)."""
         base = self.target if base is None else np.asarray(base, dtype=float)
         mechanism, columns = self.mechanism, self.free_tangent
+        space = configuration_space(mechanism)
+        space = space.closing if closing else space
         return ImplicitManifold(
             ambient=self.reduced,
-            constraint=lambda free: constraint(mechanism, self.embed(free, base)),
-            constraint_jacobian=lambda free: constraint_jacobian(mechanism, self.embed(free, base))[..., columns],
+            constraint=lambda free: space.constraint(self.embed(free, base)),
+            constraint_jacobian=lambda free: space.constraint_jacobian(self.embed(free, base))[..., columns],
             is_solution=lambda free: bool(np.all(closes(mechanism, self.embed(free, base), np.inf))))
-
-    def closing_fibre(self, base=None):
-        """The same fibre as the zero set of the closing map (:func:`mechanisms.kinematics.closing_space`):
-        no half-turn zeros, for random starts far from it."""
-        base = self.target if base is None else np.asarray(base, dtype=float)
-        closing, columns = closing_space(self.mechanism), self.free_tangent
-        return ImplicitManifold(
-            ambient=self.reduced,
-            constraint=lambda free: closing.constraint(self.embed(free, base)),
-            constraint_jacobian=lambda free: closing.constraint_jacobian(self.embed(free, base))[..., columns])
 
 
 def _holdable(mechanism):
@@ -446,7 +440,7 @@ def _search(problem, rng, count, tolerance, guess_point=None):
     if count > 0:
         randoms = problem.reduced.random_point(rng, center=problem.home[problem.free_points], size=count)
         # onto the closing map first: from far starts, Gauss-Newton on Φ ends at half-turns for most loops
-        starts += list(_newton(problem.closing_fibre(), randoms, tolerance)[0])
+        starts += list(_newton(problem.fibre(closing=True), randoms, tolerance)[0])
         methods += ["search"] * count
     if not starts:
         return [], math.inf

@@ -337,7 +337,7 @@ def closing_space(mechanism):
         rows, entries = [], []
         for group in compiled.loop_groups:
             if compiled.space == "planar":
-                group_rows, group_entries = chains.planar_closing(group, point, compiled.length)
+                group_rows, _, group_entries = chains.planar_loops(group, point, compiled.length, closing=True)
             else:
                 group_rows, group_entries = chains.loop_closing(compiled.space, group, point, compiled.length)
             rows.append((group.chains, group_rows))
@@ -349,14 +349,9 @@ def closing_space(mechanism):
         last[0] = (key, result)  # one assignment: another thread sees the old pair or the new one
         return tuple(array.copy() for array in result)
 
-    def jacobian(point):
-        entries = rows_and_entries(point)[1]
-        matrix = np.zeros(entries.shape[:-1] + compiled.pattern.shape)
-        matrix[..., compiled.pattern.rows, compiled.pattern.columns] = entries
-        return matrix
-
     return ImplicitManifold(ambient=compiled.ambient, constraint=lambda point: rows_and_entries(point)[0],
-                            constraint_jacobian=jacobian, pattern=compiled.pattern,
+                            constraint_jacobian=lambda point: compiled.pattern.dense(rows_and_entries(point)[1]),
+                            pattern=compiled.pattern,
                             constraint_jacobian_entries=lambda point: rows_and_entries(point)[1])
 
 
@@ -419,12 +414,7 @@ def constraint_jacobian_entries(mechanism, point):
 
 def constraint_jacobian(mechanism, point):
     """DΦ(point) in the recentred chart, shape=[..., c, k]."""
-    compiled = kinematics_of(mechanism)
-    point = _as_points(mechanism, point)
-    pattern = compiled.pattern
-    jacobian = np.zeros(point.shape[:-1] + pattern.shape)
-    jacobian[..., pattern.rows, pattern.columns] = constraint_jacobian_entries(mechanism, point)
-    return jacobian
+    return kinematics_of(mechanism).pattern.dense(constraint_jacobian_entries(mechanism, point))
 
 
 def closure_and_jacobian(mechanism, point):
@@ -454,22 +444,18 @@ def closure_and_jacobian(mechanism, point):
     pattern = compiled.pattern
     if compiled.space == "planar":
         rows, turns, entries = _planar_closure(compiled, point, 1)
-        jacobian = np.zeros(point.shape[:-1] + pattern.shape)
-        jacobian[..., pattern.rows, pattern.columns] = entries
-        return rows, turns, jacobian
+        return rows, turns, pattern.dense(entries)
     size = groups.MATRIX_SIZE[compiled.space]
     products = np.zeros(point.shape[:-1] + (len(compiled.loops), size, size))
-    jacobian = np.zeros(point.shape[:-1] + pattern.shape)
     entries = []
     for group in compiled.loop_groups:
         product, group_entries = chains.loop_first_order(compiled.space, group, point, compiled.length)
         products[..., group.chains, :, :] = product
         entries.append(_flattened(group_entries, point.shape[:-1]))
-    if entries:
-        jacobian[..., pattern.rows, pattern.columns] = np.concatenate(entries, axis=-1)
+    entries = np.concatenate(entries, axis=-1) if entries else np.zeros(point.shape[:-1] + (0,))
     rows = _flattened(groups.loop_rows(compiled.space, products, compiled.length), point.shape[:-1])
     turns = np.all(groups.is_identity_rotation(compiled.space, products), axis=-1)
-    return rows, turns, jacobian
+    return rows, turns, pattern.dense(entries)
 
 
 def constraint_hessian(mechanism, point):

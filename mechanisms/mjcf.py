@@ -72,20 +72,17 @@ def tree_from_mjcf(model, source="MJCF"):
     """(kinematic tree, closures) of a compiled ``mujoco.MjModel``."""
     import mujoco
 
-    def given(kind, count):
-        return [mujoco.mj_id2name(model, kind, index) for index in range(count)]
-
-    def named(kind, count, fallback, names):
-        return [item or names.made_up(f"{fallback}{index}") for index, item in enumerate(given(kind, count))]
+    def labelled(kind, count, fallback):
+        """The names of the `count` elements of `kind` (an unnamed one's made up), and their :class:`_Names`."""
+        given = [mujoco.mj_id2name(model, kind, index) for index in range(count)]
+        names = _Names(given)
+        return [item or names.made_up(f"{fallback}{index}") for index, item in enumerate(given)], names
 
     objects = mujoco.mjtObj
-    link_names = _Names(given(objects.mjOBJ_BODY, model.nbody))
-    joint_names = _Names(given(objects.mjOBJ_JOINT, model.njnt))
-    frame_names = _Names(given(objects.mjOBJ_SITE, model.nsite))
-    bodies = named(objects.mjOBJ_BODY, model.nbody, "body", link_names)
-    joint_labels = named(objects.mjOBJ_JOINT, model.njnt, "joint", joint_names)
-    sites = named(objects.mjOBJ_SITE, model.nsite, "site", frame_names)
-    equalities = named(objects.mjOBJ_EQUALITY, model.neq, "equality", _Names(given(objects.mjOBJ_EQUALITY, model.neq)))
+    bodies, link_names = labelled(objects.mjOBJ_BODY, model.nbody, "body")
+    joint_labels, joint_names = labelled(objects.mjOBJ_JOINT, model.njnt, "joint")
+    sites, frame_names = labelled(objects.mjOBJ_SITE, model.nsite, "site")
+    equalities = labelled(objects.mjOBJ_EQUALITY, model.neq, "equality")[0]
     links, joints, notes = [bodies[0]], [], []
     for body in range(1, model.nbody):
         parent = bodies[model.body_parentid[body]]
@@ -147,7 +144,7 @@ def tree_from_mjcf(model, source="MJCF"):
                                  f"tendon values is not one)")
         loops.append(anchors)
     actuated, elsewhere = [], []
-    actuators = named(objects.mjOBJ_ACTUATOR, model.nu, "actuator", _Names(given(objects.mjOBJ_ACTUATOR, model.nu)))
+    actuators = labelled(objects.mjOBJ_ACTUATOR, model.nu, "actuator")[0]
     for index in range(model.nu):
         if int(model.actuator_trntype[index]) == int(mujoco.mjtTrn.mjTRN_JOINT):
             joint_name = joint_labels[int(model.actuator_trnid[index][0])]

@@ -337,7 +337,7 @@ _VECTORS = {"origin": ("xyz", "rpy"), "axis": ("xyz",)}
 def _vector_fault(text):
     """What is wrong with `text` as three numbers separated by spaces, or None (the words inf and nan pass:
     they are refused later, naming the joint), beyond ±COORDINATE_LIMIT included (as in a mechanism file)."""
-    from ._numerals import Underflow, decimal_number
+    from ._numerals import Underflow, decimal_number, is_word
     from .joints import COORDINATE_LIMIT
 
     parts = text.split()
@@ -349,8 +349,7 @@ def _vector_fault(text):
         values = None
     if values is None or len(values) != 3:
         return "expected three numbers"
-    words = [item.lower().lstrip("+-") in ("inf", "infinity", "nan") for item in parts]
-    if any(abs(value) > COORDINATE_LIMIT for value, word in zip(values, words) if not word):
+    if any(abs(value) > COORDINATE_LIMIT for value, item in zip(values, parts) if not is_word(item)):
         return f"a number beyond ±{COORDINATE_LIMIT:g} (as in a mechanism file)"  # 1e400 and 5000 digits too
     return None
 
@@ -426,9 +425,10 @@ def tree_from_urdf(text, source="URDF"):
                          tuple(mimics))
 
 
-def _floating_note(name):
-    """The note of a floating base joint held fixed (:func:`retype` replaces it where the joint is re-typed)."""
-    return f"floating joint {name!r} (the floating base) held fixed"
+def _floating_note(name, retyped=None):
+    """The note of a floating base joint: held fixed, or `retyped` by the closures file (:func:`retype`)."""
+    said = "held fixed" if retyped is None else f"re-typed {retyped} by the closures file"
+    return f"floating joint {name!r} (the floating base) {said}"
 
 
 def retype(tree, closures, source="closures file"):
@@ -475,8 +475,7 @@ def retype(tree, closures, source="closures file"):
     kept = []
     for note in tree.notes:  # a floating base re-typed is no longer held fixed: said so, not the opposite
         name = next((name for name in retyped if note == _floating_note(name)), None)
-        kept.append(note if name is None else
-                    f"floating joint {name!r} (the floating base) re-typed {retyped[name]} by the closures file")
+        kept.append(note if name is None else _floating_note(name, retyped[name]))
     return KinematicTree(tree.name, tree.root, tree.links, tuple(joints), tree.frames, (*kept, *notes),
                          tree.mimics)
 
