@@ -29,8 +29,9 @@ __all__ = ["read_survey", "write_survey", "cached_survey", "fingerprint", "Surve
 _FORMAT = "closedchain-survey"
 #: 2: the survey's random points of K are projected onto the closing map first (version 1's surveys of
 #: spatial and spherical mechanisms had the walk from home as their only samples, every random start ending at
-#: a half-turn); a version 1 file is refused, not reused
-_VERSION = 2
+#: a half-turn); 3: that projection is damped (Levenberg-Marquardt: random starts where Gauss-Newton stalled
+#: far from M now reach it, and are samples). A file of an earlier version is refused, not reused
+_VERSION = 3
 #: largest survey cache file read (bytes)
 _LARGEST_FILE = 1 << 20
 

@@ -34,6 +34,20 @@ def test_a_file_for_another_mechanism_or_cut_is_refused(tmp_path):
     assert read_survey(tmp_path / "missing.json", five_bar) is None
 
 
+def test_a_file_of_an_earlier_version_is_refused(tmp_path):
+    """Its survey sampled M otherwise (version 1: random starts ended at half-turns; 2: capped Gauss-Newton on
+    the closing map stalled for some)."""
+    path = tmp_path / "survey.json"
+    five_bar = model_of(catalogue.entry("five-bar").mechanism())
+    write_survey(path, five_bar, survey_of(five_bar))
+    data = json.loads(path.read_text())
+    assert read_survey(path, five_bar).to_dict() == survey_of(five_bar).to_dict()
+    for version in (1, 2):
+        path.write_text(json.dumps(dict(data, version=version)))
+        with pytest.raises(SurveyCacheError, match="closedchain version"):
+            read_survey(path, five_bar)
+
+
 @pytest.mark.parametrize("text, message", [
     ("{", "not a JSON file"),
     ("[]", "not a closedchain survey cache"),

@@ -41,6 +41,25 @@ def test_projection_failure_is_reported():
         project(level, [0.5])
 
 
+def test_damped_projection_reaches_a_zero_gauss_newton_overshoots():
+    """Φ = arctan x: Newton's steps from x = 1.5 overshoot and grow; Levenberg-Marquardt keeps only steps that
+    lower |Φ| (Nocedal & Wright §10.3) and reaches the zero."""
+    level = ImplicitManifold(AmbientSpace(("R",)), lambda p: np.arctan(p[:1]),
+                             lambda p: np.array([[1 / (1 + p[0] ** 2)]]))
+    with pytest.raises(ProjectionError, match="did not converge: residual 1.57 "):  # x: 1.5, -1.7, 2.3, -5.1, 32, ...
+        project(level, [1.5], max_iterations=5)
+    assert abs(project(level, [1.5], damped=True)[0]) < 1e-12
+    assert project(level, [1.5], damped=True, max_step=0.1)[0] == pytest.approx(0.0, abs=1e-12)
+
+
+def test_damped_projection_gives_up_at_a_critical_point_that_is_no_zero():
+    """Φ = x² + 1 has no zero and |Φ|² its minimum at 0: no step lowers |Φ| there, and the search stops."""
+    level = ImplicitManifold(AmbientSpace(("R",)), lambda p: np.array([p[0] ** 2 + 1.0]),
+                             lambda p: np.array([[2 * p[0]]]))
+    with pytest.raises(ProjectionError, match="did not converge: residual 1 "):
+        project(level, [0.5], damped=True, max_iterations=1000)
+
+
 def test_rank_decision_reports_its_margin():
     decision = numerical_rank(np.diag([3.0, 1.0, 1e-9]))
     assert decision.rank == 2
