@@ -113,13 +113,20 @@ def _flat(displacements):
     return result
 
 
-def _named(vector, names, threshold=1e-9):
-    """A joint-rate vector as {coordinate name: value}, largest entries only, sign-normalised."""
+#: entries within this fraction of the largest magnitude tie for the sign of a reported vector (the first of
+#: them is made positive): a rounding difference cannot then decide the sign, as a bare argmax did
+SIGN_TIE = 1e-6
+
+
+def _named(vector, names):
+    """A joint-rate vector as {coordinate name: value}, largest entries only, sign-normalised: the first
+    entry of largest magnitude (within :data:`SIGN_TIE`) positive."""
     vector = np.asarray(vector, dtype=float)
     if not len(vector) or np.max(np.abs(vector)) == 0:
         return {}
     vector = vector / np.linalg.norm(vector)
-    if vector[np.argmax(np.abs(vector))] < 0:
+    magnitudes = np.abs(vector)
+    if vector[np.flatnonzero(magnitudes >= (1 - SIGN_TIE) * magnitudes.max())[0]] < 0:
         vector = -vector
     return {name: round(float(value), 6) for name, value in zip(names, vector) if abs(value) > 1e-6}
 
