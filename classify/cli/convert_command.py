@@ -1,11 +1,15 @@
-"""``closedchain convert FILE|NAME [--closures C.yaml] [--configuration C] [--param K=V] --write OUT``: convert a
-mechanism between formats.
+"""``closedchain convert FILE|NAME [--closures C.yaml] [--configuration C] [--param K=V] --write OUT
+[--format json|text]``: convert a mechanism between formats.
 
 Inputs: a URDF with its closures file (``--closures``), an MJCF file (``.xml``), a mechanism file or a catalogue
 entry. Outputs (by ``--write``'s suffix): a contract-format mechanism file (``.yaml``, ``.yml``, ``.json``), whose
 home is the assembled configuration and whose ``description`` records the import's notes; or a URDF (``.urdf``)
 with its closures file beside it (same stem, ``.yaml``; :mod:`mechanisms.export`), which the URDF importer and
 Pinocchio read.
+
+Prints the import's notes and one line per file written (``--format text``, the default), or a JSON object
+(``--format json``): ``{"mechanism", "written": [paths], "joints", "loops", "notes"}``, with ``"actuated"`` (the
+closures file's actuated joints) for a URDF.
 """
 
 from __future__ import annotations
@@ -13,7 +17,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from ..text import printable
-from ._common import InputError, MECHANISM_SUFFIXES, closures_option, entry_options, source
+from ._common import InputError, MECHANISM_SUFFIXES, closures_option, dumps, entry_options, source
 
 __all__ = ["add_parser", "run"]
 
@@ -27,6 +31,8 @@ def add_parser(commands):
     parser.add_argument("--write", required=True, metavar="OUT",
                         help="the file to write: .yaml/.yml/.json (a mechanism file) or .urdf (with OUT's stem "
                              ".yaml as its closures file)")
+    parser.add_argument("--format", choices=("json", "text"), default="text",
+                        help="what is printed: the notes and the files written, as lines or as JSON (default text)")
     return parser
 
 
@@ -49,6 +55,11 @@ def run(arguments, out):
             exported = write_urdf(mechanism, target, closures_path)
         except MechanismError as error:
             raise InputError(f"--write: {error}") from None
+        if arguments.format == "json":
+            out.write(dumps({"mechanism": mechanism.name, "written": [str(target), str(closures_path)],
+                             "joints": len(mechanism.joints), "loops": len(exported.closures.loops),
+                             "actuated": len(exported.closures.actuated), "notes": []}) + "\n")
+            return
         out.write(f"wrote {printable(str(target))} and its closures {printable(str(closures_path))}: "
                   f"{len(exported.closures.loops)} loop(s), {len(exported.closures.actuated)} actuated joint(s)\n")
         return
@@ -57,7 +68,12 @@ def run(arguments, out):
         save(mechanism, target, configurations={"named": named} if named else None, description=description)
     except MechanismError as error:
         raise InputError(f"--write: {error}") from None
-    for note in (imported.notes if imported is not None else ()):
+    notes = list(imported.notes) if imported is not None else []
+    if arguments.format == "json":
+        out.write(dumps({"mechanism": mechanism.name, "written": [str(target)], "joints": len(mechanism.joints),
+                         "loops": mechanism.loop_count, "notes": notes}) + "\n")
+        return
+    for note in notes:
         out.write(f"imported: {printable(note)}\n")
     out.write(f"wrote {printable(str(target))}: {printable(mechanism.name)}, {len(mechanism.joints)} joints, "
               f"{mechanism.loop_count} loop(s)\n")

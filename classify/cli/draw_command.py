@@ -1,5 +1,5 @@
 """``closedchain draw FILE|NAME [--param K=V] [--configuration C] [--at JSON] [--project] [--kinds K,...]
---out FIG.png|svg|pdf``: draw a mechanism at a configuration.
+--out FIG.png|svg|pdf [--format json|text]``: draw a mechanism at a configuration.
 
 The configuration is ``home ⊕ at`` as for ``closedchain classify`` (a
 configuration that does not close is refused unless ``--project``). The
@@ -8,13 +8,16 @@ drawing (:func:`classify.figures.drawing.draw_mechanism`): links, joints
 classified and, at a singularity, the lost directions of the singular kinds
 (``--kinds``, default all) are drawn as arrows at the joints they move.
 Planar mechanisms in the plane, spherical ones on the unit sphere, spatial
-ones on 3-D axes. Prints one line: the file written and the kinds found.
+ones on 3-D axes. Prints one line, the file written and the kinds found
+(``--format text``, the default), or a JSON object (``--format json``):
+``{"mechanism", "written": [path], "kinds", "classification"}``, the last the
+``closedchain classify`` object of the configuration drawn.
 """
 
 from __future__ import annotations
 
 from ..text import drawn, printable
-from ._common import InputError, closures_option, common_options, displacements, entry_options, source
+from ._common import InputError, closures_option, common_options, displacements, dumps, entry_options, source
 
 __all__ = ["add_parser", "run", "FIGURE_SUFFIXES", "KIND_NAMES"]
 
@@ -41,6 +44,8 @@ def add_parser(commands):
     parser.add_argument("--title", default=None, help="the figure's title (default the mechanism and the kinds)")
     parser.add_argument("--out", required=True, metavar="FIG",
                         help="the figure file: .png, .svg or .pdf")
+    parser.add_argument("--format", choices=("json", "text"), default="text",
+                        help="what is printed: one line, or the file and the classification as JSON (default text)")
     common_options(parser)
     return parser
 
@@ -124,4 +129,8 @@ def run(arguments, out):
     title = arguments.title if arguments.title is not None else f"{drawn(mechanism.name)}: {found}"
     figure = draw_mechanism(mechanism, point, report=report, kinds=kinds, title=title)
     write_figure(figure, path)
+    if arguments.format == "json":
+        out.write(dumps({"mechanism": mechanism.name, "written": [path], "kinds": list(report.kinds),
+                         "classification": report.to_dict()}) + "\n")
+        return
     out.write(f"drawing of {printable(mechanism.name)} ({found}) written to {printable(path)}\n")
