@@ -298,7 +298,7 @@ def classify_many(mechanism, points, survey=None, rtol=DEFAULT_RTOL, length_scal
 
 def default_chunk(model):
     """Configurations per chunk of :func:`classify_many` by default: the dense arrays of the whole chunk (DΦ,
-    c × k, and the tangent bases, k × (k − c), as :func:`mechanisms.dense_memory_estimate` counts them)
+    c × k, and the tangent bases, k × (k − c), as :func:`mechanisms.mechanism.dense_memory_estimate` counts them)
     within :data:`manifold.implicit.CHUNK_ENTRIES` floats (8 MiB), at least one configuration.
 
     So a chunk takes about the same memory whatever the mechanism: it holds

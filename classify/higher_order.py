@@ -88,17 +88,17 @@ the Taylor coefficients of g along the curve.
   smooth branch built here (weighted blow-up k = s v + s² ω and the implicit
   function theorem in ω), so an obstruction excludes all of them; with
   finitely many root directions, each obstructed, p̄ is isolated. The root
-  directions are those passed in plus the local minima of |Q| on the unit
+  directions are those passed in plus the local minima of ‖Q‖ on the unit
   sphere of K below the cut (a scan of the circle for dim K = 2, random
   starts above, where a root can be missed, as in the second-order test).
   If L_v has a kernel on K ⊖ v, free components enter later orders nonlinearly and
   the fibre may contain a *cuspidal* branch (k₂² = k₁³) that no formal
   curve x(t) = t v + … follows: an obstruction is then reported as
   "undecidable", never as "isolated".
-* Q ≡ 0 on K: g(k) = a₃(k) + O(|k|⁴) with a₃ the raw order-3 obstruction
+* Q ≡ 0 on K: g(k) = a₃(k) + O(‖k‖⁴) with a₃ the raw order-3 obstruction
   (x₂ without free component), a cubic form; if the a₃ have no common root
   on the unit sphere of K, p̄ is isolated at order 3 (every direction at
-  once; the minimum of |a₃| over the sphere is the reported obstruction).
+  once; the minimum of ‖a₃‖ over the sphere is the reported obstruction).
 
 **Taylor coefficients without third derivatives.** R_j (j ≥ 3) is read off
 samples of ``t ↦ Φ(p̄ ⊕ x(t))`` at 2(d+1) Chebyshev points of [−h, h]
@@ -109,12 +109,12 @@ natural scale λ falls like (λh/2)^{d+1}) and the noise floor of the top
 modes times the amplification of the kept ones (rounding, which grows like
 h^{−j}). Here d = max_order + 10 and h = r/λ for r in {1/8, 1/4, 1/2, 1,
 2}, keeping the r whose largest bound over the orders 1, …, j (relative
-to λ^{i−1}) is smallest; λ = max(μ, |xᵢ|^{1/(i−1)}) is the
+to λ^{i−1}) is smallest; λ = max(μ, ‖xᵢ‖^{1/(i−1)}) is the
 natural scale of the curve (μ ≥ 1 the Frobenius norm of the curvature
 x''(T, T) of M at p̄).
 
 **Decisions are relative.** The obstruction is reported as
-``ρ_j = |o_j| / (σ_S λ^{j−1})`` (σ_S the actuator scale, λ^{j−1} the natural
+``ρ_j = ‖o_j‖ / (σ_S λ^{j−1})`` (σ_S the actuator scale, λ^{j−1} the natural
 size of an order-j coefficient). Its noise η_j is the larger of the fit's
 error bound, the coefficients of the orders below j (which vanish exactly
 along a formal curve), the part of R_j in the redundant rows of Φ, and the
@@ -176,7 +176,7 @@ from .sphere_minima import distinct_directions, sphere_minima
 
 __all__ = ["HIGHER_ORDER_RTOL", "NOISE_FACTOR", "HigherOrderResult", "higher_order_test", "taylor_coefficients"]
 
-#: relative cut of the obstruction ρ_j = |o_j| / (σ_S λ^{j−1}) (see the module's Notes)
+#: relative cut of the obstruction ρ_j = ‖o_j‖ / (σ_S λ^{j−1}) (see the module's Notes)
 HIGHER_ORDER_RTOL = 1e-6
 #: an obstruction must exceed, and a zero must be cut above, this multiple of the estimated noise
 NOISE_FACTOR = 10.0
@@ -213,7 +213,7 @@ class HigherOrderResult:
     noise : float
         Estimated numerical error of ρ (same units).
     height_coefficient : float
-        |o_j| at that order: the norm of the t^j coefficient of the heights
+        ‖o_j‖ at that order: the norm of the t^j coefficient of the heights
         ⟨e, π⟩ along the curve (actuator units, t in scaled chart units).
     """
 
@@ -254,11 +254,11 @@ def taylor_coefficients(function, radius, degree, nodes=None):
     g(z) = function(radius·z); the modes m ≤ `degree` are kept and converted to
     monomials: ``cᵢ = Σ_{m≤d} b_m [zⁱ]T_m / radiusⁱ``. The error bound of cᵢ is
 
-        ( Σ_{m>d} |b_m| |[zⁱ]T_m|  +  β Σ_{m≤d} |[zⁱ]T_m| ) / radiusⁱ,
+        ( Σ_{m>d} ‖b_m‖ ‖[zⁱ]T_m‖  +  β Σ_{m≤d} ‖[zⁱ]T_m‖ ) / radiusⁱ,
 
     the first sum the measured modes left out (truncation), β the noise
-    floor of the coefficients (the largest |b_m| of the top quarter of modes,
-    at least ε·max|g|) times the amplification of the kept modes (rounding).
+    floor of the coefficients (the largest ‖b_m‖ of the top quarter of modes,
+    at least ε·max‖g‖) times the amplification of the kept modes (rounding).
     The bound assumes the Chebyshev coefficients decay beyond the measured
     modes (an analytic g sampled well inside its domain).
 
@@ -428,7 +428,7 @@ def _curvature_norm(hessian, pseudo_inverse, tangent):
 
 
 def _natural_scale(setting, coefficients):
-    """λ = max(μ, |xᵢ|^{1/(i−1)}, i ≥ 2) of curves with coefficients x₁, x₂, … (shape=[..., d, k])."""
+    """λ = max(μ, ‖xᵢ‖^{1/(i−1)}, i ≥ 2) of curves with coefficients x₁, x₂, … (shape=[..., d, k])."""
     scale = np.full(coefficients.shape[:-2], setting.curvature_scale)
     for index in range(1, coefficients.shape[-2]):
         scale = np.maximum(scale, np.linalg.norm(coefficients[..., index, :], axis=-1) ** (1.0 / index))
@@ -524,7 +524,7 @@ class _QuadraticResidual:
 
     def descend(self, start, steps=32):
         """Gauss–Newton from `start` with least-norm steps (singular values below 1e-6 σ₁ of the slope cut, so
-        no step goes along a direction the residual does not see), halved while they do not reduce |r|."""
+        no step goes along a direction the residual does not see), halved while they do not reduce ‖r‖."""
         point, size = np.array(start, dtype=float), float(np.linalg.norm(self.value(start)))
         for _ in range(steps):
             step = -np.linalg.pinv(self.slope(point), rcond=1e-6) @ self.value(point)

@@ -72,8 +72,9 @@ CHUNK_ENTRIES = 2 ** 20
 #: a projection handled block by block stops when the residual fell by less than 1% over this many iterations
 STALL_WINDOW = 10
 #: damping of a damped projection's first step, and its bounds, relative to σ₁² of DΦ·diag(s): the
-#: Levenberg-Marquardt step ``−(JᵀJ + μ σ₁² I)⁻¹ Jᵀ Φ``; μ shrinks 3× after a step that lowers ‖Φ‖ and grows
-#: 4× after one that does not, and the search gives up past the largest (a critical point of ‖Φ‖² that is no zero)
+#: Levenberg-Marquardt step ``−(JᵀJ + μ σ₁² I)⁻¹ Jᵀ Φ``; μ shrinks 3× after a step that lowers ‖Φ‖ and
+#: grows 4× after one that does not, and the search gives up past the largest (a critical point of ‖Φ‖²
+#: that is no zero)
 DAMPING_START, DAMPING_SMALLEST, DAMPING_LARGEST = 1e-3, 1e-12, 1e8
 
 
@@ -235,6 +236,9 @@ def project(manifold, point, tolerance=1e-12, max_iterations=60, max_step=None, 
         of each block's part of the step: the blocks are independent
         problems, and one cap on the whole step would slow each block down
         by the number of the others.
+    damped : bool
+        Levenberg-Marquardt steps, each kept only where it lowers ‖Φ‖ (see
+        above); a manifold handled block by block ignores it.
 
     Returns
     -------

@@ -45,7 +45,7 @@ degeneracy) and the displacements of the configuration classified. ``--out``:
 "shape", "survey", "points": [...], "summary": {"total", "reachable",
 "unreachable", "regular", "cspace", "actuator", "end_effector"}}``; ``.jsonl`` one point per line;
 ``.csv`` one point per row; ``.npz`` arrays shaped like the grid
-(``reachable``, ``coordinates`` [*shape, d], ``points``, ``displacements``,
+(``reachable``, ``coordinates`` ``[*shape, d]``, ``points``, ``displacements``,
 and every column of :meth:`classify.Classifications.arrays` — NaN, -1 or
 false where unreachable). Without ``--out``: the JSON document
 (``--format json``) or a table with the counts and, for one- and

@@ -313,7 +313,7 @@ def _json(rows):
 
 
 def report_summary(rows, output):
-    """A few lines for the terminal: the counts by kind and where the report is.
+    """Three lines for the terminal: the counts by kind, the Gosselin–Angeles agreement and where the report is.
 
     Parameters
     ----------
