@@ -29,9 +29,12 @@ unchanged by a rotation or translation of the base frame, a shift of the
 origin of Λ and a scaling of all lengths, and so is every decision and
 margin below:
 
-* architecturally singular: σ₅/σ₁ ≤ rtol, σ the singular values of the
-  normalised 5 × 6 matrix of rows (zᵢ, xᵢ, yᵢ, xᵢzᵢ, yᵢzᵢ, 1) (the Cⱼ are
-  its maximal minors: all vanish iff its rank is below 5);
+* architecturally singular: all Cⱼ vanish iff the 5 × 6 matrix of rows
+  (zᵢ, xᵢ, yᵢ, xᵢzᵢ, yᵢzᵢ, 1) has rank below 5 (the Cⱼ are its maximal
+  minors); the margin is :func:`architecture_margin`, σ₅/σ₁ in the best of
+  five frames each centred on one leg, so that it does not fall when one
+  attachment lies far from the others (a move along a B-line multiplies the
+  Cⱼ by a growing factor, it does not make them vanish);
 * B at infinity: ``|h₃|``/‖h‖ ≤ rtol, h = (C₂, C₃, C₆) × (C₄, C₅, C₁) the
   homogeneous B (16) — B lies farther than L/rtol from the centroid;
 * B∞ at infinity: ‖(C₄, C₅)‖/‖(C₄, C₅, C₁)‖ ≤ rtol — B∞ lies farther than
@@ -54,8 +57,9 @@ from itertools import combinations
 import numpy as np
 
 __all__ = [
-    "FAMILIES", "FAMILY_RTOL", "DesignError", "RearrangementError", "LinePlaneDesign", "Family",
+    "FAMILIES", "FAMILY_RTOL", "FILE_RTOL", "DesignError", "RearrangementError", "LinePlaneDesign", "Family",
     "SingularityReading", "line_plane_design", "normalised", "cofactors", "normalised_cofactors",
+    "architecture_margin",
     "b_point", "b_infinity", "b_line", "b_line_direction", "lambda_plus", "family", "singularity_polynomial",
     "singularity_margin", "singularity_reading", "leg_jacobian", "jacobian_determinant", "move_base",
     "move_platform", "design_from_mechanism",
@@ -124,7 +128,7 @@ class Family:
     name : str
         One of :data:`FAMILIES`.
     architecture_margin : float
-        σ₅/σ₁ of the normalised 5 × 6 matrix (architecturally singular at ≤ rtol).
+        :func:`architecture_margin` (architecturally singular at ≤ rtol).
     b_margin : float
         ``|h₃|``/‖h‖ of the normalised homogeneous B (B at infinity at ≤ rtol).
     b_infinity_margin : float
@@ -145,13 +149,16 @@ class Family:
 
     @property
     def margin(self):
-        """The margin of the deciding cut: the value compared with rtol last."""
+        """The margin of the deciding cut: the value :func:`family` compared with rtol last.
+
+        The architecture margin for an architecturally singular design, the
+        B∞ margin for a quadratic one, the B margin for a cubic (B∞ finite, B
+        at infinity) or quartic one.
+        """
         if self.name == "architecturally singular":
             return self.architecture_margin
         if self.name == "quadratic":
             return self.b_infinity_margin
-        if self.name == "cubic":
-            return max(self.b_margin, self.b_infinity_margin)
         return self.b_margin
 
     def to_dict(self):
@@ -233,21 +240,34 @@ def line_plane_design(base, platform, rtol=FAMILY_RTOL):
     if not np.all(np.isfinite(platform)):
         raise DesignError("platform: the attachments must be finite numbers", "platform")
     design = LinePlaneDesign(base, platform)
-    length = design.characteristic_length
-    if not length > 0:
+    if not design.characteristic_length > 0:
         raise DesignError("base: all attachments coincide", "base")
     points = design.attachments
+    scale = _typical_distance(points)
     for first, second in combinations(range(5), 2):
-        if np.linalg.norm(points[first] - points[second]) <= rtol * length:
+        if np.linalg.norm(points[first] - points[second]) <= rtol * scale:
             raise DesignError(f"base: legs {first + 1} and {second + 1} coincide (same base and platform "
                               f"attachments)", "base")
+    base_scale = _typical_distance(base)
     for four in combinations(range(5), 4):
         spread = _collinearity(base[list(four)])
-        if spread <= rtol * length:
+        if spread <= rtol * base_scale:
             legs = ", ".join(str(index + 1) for index in four)
             raise DesignError(f"base: attachments {legs} are collinear (a four-leg rigid subassembly, outside "
                               f"the line-plane families; Borràs, Thomas & Torras 2011 Section II)", "base")
     return design
+
+
+def _typical_distance(points):
+    """The median distance between two of the points, shape=[n, d] -> float.
+
+    The unit of the coincidence and collinearity cuts: unlike L, one
+    attachment far from the others does not change it, so the cuts keep
+    their meaning (Section III-B lets a base attachment slide arbitrarily
+    far along its B-line).
+    """
+    gaps = [np.linalg.norm(points[first] - points[second]) for first, second in combinations(range(len(points)), 2)]
+    return float(np.median(gaps))
 
 
 def _collinearity(points):
@@ -302,6 +322,55 @@ def normalised_cofactors(design):
     return values / norm if norm > 0 else values
 
 
+def architecture_margin(design):
+    """How far the design is from architectural singularity (all Cⱼ = 0, Section III-A), in [0, 1].
+
+    The Cⱼ are the maximal minors of the 5 × 6 matrix R of rows
+    (zᵢ, xᵢ, yᵢ, xᵢzᵢ, yᵢzᵢ, 1) (12): all vanish iff rank R < 5. Whether they
+    do is unchanged by a change of the base frame or of Λ's origin (column
+    operations on R), by separate scalings of the base and of Λ (column
+    scalings) and by scaling a row, so the rank is tested where R is best
+    conditioned: for each leg k, the attachments are taken relative to leg
+    k's, the base ones over their median distance to aₖ and the platform ones
+    over their median distance to zₖ (robust to one far attachment), each row
+    is divided by its norm, and σ₅/σ₁ is computed. The margin is the largest
+    of the five ratios: 0 when all Cⱼ vanish, and unchanged by the leg
+    numbering, a rigid motion of the base frame, a shift of Λ's origin, a flip
+    of i and a scaling.
+
+    Parameters
+    ----------
+    design : LinePlaneDesign
+
+    Returns
+    -------
+    float
+
+    References
+    ----------
+    Borràs, Thomas & Torras 2011 eq. (12), Section III-A.
+    """
+    best = 0.0
+    for leg in range(5):
+        base = design.base - design.base[leg]
+        platform = design.platform - design.platform[leg]
+        base_scale = _median_nonzero(np.linalg.norm(base, axis=1))
+        platform_scale = _median_nonzero(np.abs(platform))
+        if base_scale == 0 or platform_scale == 0:
+            return 0.0      # all base attachments, or all platform attachments, coincide: rank R ≤ 4
+        rows = _rows(LinePlaneDesign(base / base_scale, platform / platform_scale))
+        rows /= np.linalg.norm(rows, axis=1, keepdims=True)
+        singular_values = np.linalg.svd(rows, compute_uv=False)
+        best = max(best, float(singular_values[-1] / singular_values[0]))
+    return best
+
+
+def _median_nonzero(values):
+    """The median of the nonzero values (0 if there are none)."""
+    values = values[values > 0]
+    return float(np.median(values)) if values.size else 0.0
+
+
 # ------------------------------------------------------------------------------------------------ the pencil
 
 def _homogeneous_b(values):
@@ -322,7 +391,7 @@ def family(design, rtol=FAMILY_RTOL):
     Returns
     -------
     Family
-        ``"architecturally singular"`` if σ₅/σ₁ ≤ rtol; else ``"quadratic"``
+        ``"architecturally singular"`` if :func:`architecture_margin` ≤ rtol; else ``"quadratic"``
         if B∞ is at infinity (C₄ = C₅ = 0); else ``"cubic"`` if B is at
         infinity (C₂C₅ − C₃C₄ = 0); else ``"quartic"``.
 
@@ -332,9 +401,7 @@ def family(design, rtol=FAMILY_RTOL):
     (the leading coefficients n₄, n₃ of (10) vanish in the cubic and
     quadratic cases).
     """
-    unit = normalised(design)
-    singular_values = np.linalg.svd(_rows(unit), compute_uv=False)
-    architecture = float(singular_values[-1] / singular_values[0])
+    architecture = architecture_margin(design)
     values = normalised_cofactors(design)
     h = _homogeneous_b(values)
     norm_h = np.linalg.norm(h)
@@ -366,12 +433,17 @@ def b_point(design, rtol=FAMILY_RTOL):
 
 
 def b_infinity(design, rtol=FAMILY_RTOL):
-    """B∞ (15): (a, b, c) with a² + b² = 1 of the line ax + by + c = 0 ∝ C₄x + C₅y + C₁; None at infinity."""
+    """B∞ (15): (a, b, c) with a² + b² = 1 of the line ax + by + c = 0 ∝ C₄x + C₅y + C₁; None at infinity.
+
+    The sign of (a, b, c) is fixed by the design, not by the sign of the
+    cofactors (hence not by the leg numbering): the normal (a, b) points to
+    the side of B∞ that holds the centroid ā of the base attachments.
+    """
     if family(design, rtol).name in ("quadratic", "architecturally singular"):
         return None
     c1, c2, c3, c4, c5, c6 = cofactors(design)
-    line = np.array([c4, c5, c1])
-    return line / np.linalg.norm(line[:2])
+    line = np.array([c4, c5, c1]) / np.hypot(c4, c5)
+    return _centroid_side(design, line) * line
 
 
 def b_line(design, z):
@@ -411,34 +483,63 @@ def b_line_direction(design, index):
     return direction
 
 
+def _centroid_side(design, line):
+    """+1 or −1: the side of the line ax + by + c = 0 that holds the centroid of the base attachments (+1 on it)."""
+    return -1.0 if line[:2] @ design.centre[:2] + line[2] < 0 else 1.0
+
+
 def lambda_plus(design, rtol=FAMILY_RTOL):
-    """Λ⁺ (23): the copy of Λ in Π, parallel to B∞, on which each attachment lies on its B-line.
+    """Λ⁺ (23): the copy of Λ in Π, parallel to B∞, on which each attachment lies on its B-line (Fig. 8).
 
     Returns
     -------
     line : ndarray, shape=[3]
-        (a, b, c) with a² + b² = 1 of ax + by + c = 0 ∝ C₄x + C₅y + C₁ + (C₂C₅ − C₃C₄)/‖(C₄, C₅)‖.
+        (a, b, c) with a² + b² = 1 of ax + by + c = 0, signed as
+        :func:`b_infinity`: c = c∞ − ``|C₂C₅ − C₃C₄|``/(C₄² + C₅²), with
+        (a, b, c∞) the line B∞ — the copy on the side of B∞ of the centroid ā
+        of the base attachments (see Notes).
     points : ndarray, shape=[5, 2], or None
-        b⁺ᵢ = q₀ + zᵢ d, d = (C₅, −C₄)/‖(C₄, C₅)‖, q₀ = Λ⁺ ∩ B₀: the platform
-        attachments copied onto Λ⁺, each on its B-line B_{zᵢ}. None when B is
-        at infinity (cubic designs: Λ⁺ is then B∞ itself, which meets no
-        finite B-line).
+        b⁺ᵢ = q₀ + zᵢ d, q₀ = Λ⁺ ∩ B₀, d the unit direction of Λ⁺ along which
+        each b⁺ᵢ lies on its B-line B_{zᵢ}: the platform attachments copied
+        onto Λ⁺, spaced as on Λ. None when B is at infinity (cubic designs:
+        Λ⁺ is then B∞ itself, which meets no finite B-line).
     None (instead of the pair) when B∞ is at infinity (quadratic or
     architecturally singular designs).
+
+    Notes
+    -----
+    Two lines have the property of Fig. 8: with β the signed distance to B∞
+    and κ = (C₂C₅ − C₃C₄)/(C₄² + C₅²), the lines β = κ and β = −κ, mirror
+    images in B∞ (and in B), carrying the copies in opposite directions. The
+    half-turn about B maps every B-line onto itself, so it maps the B-surface
+    (13), hence the singularity locus, onto itself, and swaps the two copies:
+    nothing in the locus tells them apart. The printed (23) picks one by the
+    sign of the cofactors, which the order of the rows of (12) fixes: an odd
+    renumbering of the legs, or a flip of i, picks the other. The paper's
+    formula is therefore ambiguous, and this function takes, by convention,
+    the copy on the side of B∞ where ā lies, β = sign(β(ā))``|κ|``: it does not
+    depend on the leg numbering, the sign of i, the base frame or the unit.
+    Its mirror image in B∞ is the other copy; when ā lies on B∞ the two are
+    equally near it and the choice follows the sign of the cofactors.
 
     References
     ----------
     Borràs, Thomas & Torras 2011 eq. (23), Fig. 8.
     """
-    if family(design, rtol).name in ("quadratic", "architecturally singular"):
+    infinity = b_infinity(design, rtol)
+    if infinity is None:
         return None
     c1, c2, c3, c4, c5, c6 = cofactors(design)
     norm = np.hypot(c4, c5)
-    line = np.array([c4, c5, c1 + (c2 * c5 - c3 * c4) / norm]) / norm
+    line = infinity - np.array([0.0, 0.0, abs(c2 * c5 - c3 * c4) / norm ** 2])
     if b_point(design, rtol) is None:
         return line, None
-    origin = np.linalg.solve(np.array([[c4, c5], [c2, c3]]), -np.array([line[2] * norm, c6]))
-    direction = np.array([c5, -c4]) / norm
+    origin = np.linalg.solve(np.array([line[:2], [c2, c3]]), -np.array([line[2], c6]))
+    direction = np.array([line[1], -line[0]])
+    # q₀ + z d lies on B_z for every z iff (C₂, C₃)·d + (C₄, C₅)·q₀ + C₁ = 0: true for d or for −d
+    along, offset = np.array([c2, c3]) @ direction, np.array([c4, c5]) @ origin + c1
+    if abs(offset - along) < abs(offset + along):
+        direction = -direction
     return line, origin + design.platform[:, None] * direction
 
 
@@ -678,31 +779,41 @@ def move_platform(design, index, z, rtol=FAMILY_RTOL, atol=1e-9):
 
 # ------------------------------------------------------------------------------------------------ from a mechanism
 
-def design_from_mechanism(mechanism, rtol=1e-9):
+#: relative cut of the plane and line tests of :func:`design_from_mechanism`: a mechanism file written by hand
+#: carries about six significant digits, i.e. errors up to 5e-7 of its largest coordinate; 1e-5 leaves a margin
+FILE_RTOL = 1e-5
+
+
+def design_from_mechanism(mechanism, rtol=FILE_RTOL):
     """The line-plane design and home pose of a 5-SPU joint graph (as the catalogue's ``5-spu`` builds it).
 
     Each leg is a chain ground –S– cylinder –P– piston –U (or R)– platform,
     the five legs ending on one platform link. The S centres are the base
-    attachments and must lie in the plane z = 0 of the file's frame (Π); the
-    U (R) centres at home are the platform attachments and must be
-    collinear (Λ). The origin p of Λ is the end-effector point when it lies
-    on Λ, else the first platform attachment; i is the second axis of the
-    first U joint when it lies along Λ, else the direction from the
-    attachment of least to that of greatest coordinate.
+    attachments and must be coplanar (Π); the U (R) centres at home are the
+    platform attachments and must be collinear (Λ). The design is read in
+    the frame of Π: the file's frame when Π is its plane z = 0, else the
+    file's frame moved by the least rotation that turns the normal of Π to
+    +z, and shifted along that normal, so that Π is z = 0. The origin p of Λ
+    is the end-effector point when it lies on Λ, else the platform
+    attachment of the first leg; i is the second axis of the first U joint
+    (in the order of the legs) when it lies along Λ, else the direction
+    from the first leg's platform attachment towards the last one's.
 
     Parameters
     ----------
     mechanism : Mechanism
     rtol : float
-        Relative cut (over the spread of the attachments) of the plane and line tests.
+        Relative cut of the plane and line tests: a distance from the fitted
+        plane or line at most rtol × the largest coordinate (or the spread of
+        the attachments, if larger) is rounding (:data:`FILE_RTOL`).
 
     Returns
     -------
     design : LinePlaneDesign
     position : ndarray, shape=[3]
-        p at home.
+        p at home, in the frame of Π.
     direction : ndarray, shape=[3]
-        i at home.
+        i at home, in the frame of Π.
 
     Raises
     ------
@@ -742,27 +853,57 @@ def design_from_mechanism(mechanism, rtol=1e-9):
         raise DesignError(f"mechanism: the five legs must end on one platform link, found {sorted(platforms)}",
                           "mechanism")
     base, attachments = np.array(base), np.array(attachments)
-    spread = max(float(np.ptp(base, axis=0).max()), float(np.ptp(attachments, axis=0).max()), 1e-300)
-    if np.max(np.abs(base[:, 2])) > rtol * spread:
-        raise DesignError("mechanism: the S joints (base attachments) must lie in the plane z = 0 (the base "
-                          "plane Π)", "mechanism")
+    scale = max(float(np.max(np.abs(np.concatenate([base, attachments])))),
+                float(np.ptp(base, axis=0).max()), float(np.ptp(attachments, axis=0).max()), 1e-300)
+    frame = _base_frame(base, rtol * scale)
+    base, attachments = frame(base), frame(attachments)
     centre = attachments.mean(axis=0)
     _, singular_values, rows = np.linalg.svd(attachments - centre)
     direction = rows[0]
-    if singular_values[1] > rtol * spread:
-        raise DesignError("mechanism: the platform attachments (U joints) must be collinear (the line Λ)",
+    if singular_values[1] > rtol * scale:
+        raise DesignError(f"mechanism: the platform attachments (U joints) must be collinear (the line Λ): they lie "
+                          f"{singular_values[1]:.3g} from the best line, more than {rtol:g} × {scale:.3g}",
                           "mechanism")
-    if axes[0] is not None and np.linalg.norm(np.cross(axes[0], direction)) <= 1e-6 * np.linalg.norm(axes[0]):
-        direction = axes[0] / np.linalg.norm(axes[0])
+    along = [frame(axis, vector=True) for axis in axes if axis is not None]
+    # along Λ: sine of the angle ≤ 1e-3 (a rounded file is off by ~1e-6; an axis not along Λ is far off)
+    if along and np.linalg.norm(np.cross(along[0], direction)) <= 1e-3 * np.linalg.norm(along[0]):
+        direction = along[0] / np.linalg.norm(along[0])
     else:
-        along = (attachments - centre) @ direction
-        direction = direction if along[-1] >= along[0] else -direction
+        steps = (attachments - centre) @ direction
+        direction = direction if steps[-1] >= steps[0] else -direction
     origin = attachments[0]
     effector = mechanism.end_effector
     if effector is not None and effector.point is not None and effector.link in platforms:
-        point = np.array(effector.point, dtype=float)
-        if np.linalg.norm(np.cross(point - centre, direction)) <= rtol * spread:
+        point = frame(np.array(effector.point, dtype=float))
+        if np.linalg.norm(np.cross(point - centre, direction)) <= rtol * scale:
             origin = point
     platform = (attachments - origin) @ direction
     design = line_plane_design(base[:, :2], platform)
     return design, origin, direction
+
+
+def _base_frame(base, tolerance):
+    """The change of frame that puts the plane of the base attachments at z = 0: points -> points, shape=[..., 3].
+
+    The identity when the attachments already lie within `tolerance` of
+    z = 0; else the least rotation turning the fitted normal n (n_z ≥ 0) to
+    +z, after a shift along n. With ``vector=True`` the rotation alone.
+    """
+    if np.max(np.abs(base[:, 2])) <= tolerance:
+        return lambda points, vector=False: np.asarray(points, dtype=float)
+    centre = base.mean(axis=0)
+    _, singular_values, rows = np.linalg.svd(base - centre)
+    if singular_values[2] > tolerance:
+        raise DesignError(f"mechanism: the S joints (base attachments) must be coplanar (the base plane Π): they lie "
+                          f"{singular_values[2]:.3g} from the best plane, more than the cut {tolerance:.3g}",
+                          "mechanism")
+    normal = rows[2] if rows[2][2] >= 0 else -rows[2]
+    axis = np.cross(normal, [0.0, 0.0, 1.0])
+    skew = np.array([[0.0, -axis[2], axis[1]], [axis[2], 0.0, -axis[0]], [-axis[1], axis[0], 0.0]])
+    rotation = np.eye(3) + skew + skew @ skew / (1.0 + normal[2])      # Rodrigues, n -> +z
+    shift = (normal @ centre) * normal
+
+    def frame(points, vector=False):
+        points = np.asarray(points, dtype=float)
+        return points @ rotation.T if vector else (points - shift) @ rotation.T
+    return frame

@@ -29,7 +29,11 @@ Three routes, which the tests hold against each other:
 
    A mode is *real* when the imaginary parts of p (over L) and i are at most
    :data:`REAL_TOLERANCE`; real modes are then polished by Newton's method on
-   the six equations ‖bₖ − aₖ‖² = lₖ², ‖i‖² = 1.
+   the six equations ‖bₖ − aₖ‖² = lₖ², ‖i‖² = 1. At leg lengths of a
+   singular configuration (a zero of (17)) g has a double root, which
+   rounding splits into two nearby roots giving the same two poses: real
+   modes closer than :data:`REAL_TOLERANCE` (‖Δp‖/L + ‖Δi‖) are one mode,
+   listed once with its ``multiplicity``.
 
 2. **The framework's general route** (:func:`framework_assembly_modes`). The
    5-SPU is built as a closedchain joint graph
@@ -91,6 +95,9 @@ class AssemblyMode:
         :func:`mode_residual`: the largest leg-length error (a length).
     closure : float or None
         ‖Φ‖ of the closedchain assembly (framework route only).
+    multiplicity : int
+        How many roots of (10), counted with multiplicity, give this pose: 2
+        (or more) at the leg lengths of a singular configuration.
     """
 
     position: np.ndarray
@@ -98,6 +105,7 @@ class AssemblyMode:
     real: bool
     residual: float
     closure: Optional[float] = None
+    multiplicity: int = 1
 
     def to_dict(self):
         """JSON-ready: real modes as lists of floats; complex ones as {"real": [...], "imag": [...]}."""
@@ -106,7 +114,7 @@ class AssemblyMode:
                 return np.real(values).tolist()
             return {"real": np.real(values).tolist(), "imag": np.imag(values).tolist()}
         result = {"real": self.real, "p": vector(self.position), "i": vector(self.direction),
-                  "residual": self.residual}
+                  "residual": self.residual, "multiplicity": self.multiplicity}
         if self.closure is not None:
             result["closure"] = self.closure
         return result
@@ -259,7 +267,9 @@ def assembly_modes(design, lengths, rtol=None):
     Returns
     -------
     tuple of AssemblyMode
-        2 × (the family's degree) modes — 8, 6, 4 — real ones first.
+        2 × (the family's degree) modes — 8, 6, 4 — counted with their
+        ``multiplicity`` (coincident real modes are listed once), real ones
+        first.
 
     Raises
     ------
@@ -294,7 +304,23 @@ def assembly_modes(design, lengths, rtol=None):
             position = length * position + shift - centre[2] * direction
             residual = mode_residual(design, lengths, position, direction)
             modes.append(AssemblyMode(position, direction, real, residual))
-    return _sort(modes)
+    return _sort(_merge_coincident(modes, length))
+
+
+def _merge_coincident(modes, length):
+    """The modes with real ones closer than REAL_TOLERANCE (``_distance``) merged into one, multiplicities added."""
+    merged = []
+    for mode in modes:
+        twin = next((index for index, kept in enumerate(merged) if mode.real and kept.real and _distance(
+            mode.position, mode.direction, kept.position, kept.direction, length) <= REAL_TOLERANCE), None)
+        if twin is None:
+            merged.append(mode)
+            continue
+        kept = merged[twin]
+        best = kept if kept.residual <= mode.residual else mode
+        merged[twin] = AssemblyMode(best.position, best.direction, True, best.residual, best.closure,
+                                    kept.multiplicity + mode.multiplicity)
+    return merged
 
 
 # ------------------------------------------------------------------------------------------------ framework route

@@ -13,12 +13,19 @@ quadratic, architecturally singular) with ``family_margins`` and ``rtol``;
 ``cofactors`` (C₁ … C₆ of (12)-(13) divided by ``cofactor_scale``, their
 largest magnitude: they are defined up to a factor); ``B`` (16) or null at
 infinity; ``B_inf`` (15) as line coefficients (a, b, c), a² + b² = 1, or
-null at infinity; ``Lambda_plus`` (23) or null; ``b_lines`` (the B-line of
-each leg, (a, b, c) normalised likewise, null at infinity); with a
-mechanism, ``pose`` (p, i at home) and ``singularity`` (the reading of
-(17) there); with ``--legs``, ``assembly_modes`` (the polynomial route,
-real ones first, each with its residual) and, with ``--framework``, the
-modes found by the closedchain mechanism route and whether the two agree;
+null at infinity; ``Lambda_plus`` (23) or null
+(:func:`classify.line_plane.lambda_plus`: the copy on the side of B∞ of the
+base attachments' centroid); ``b_lines`` (the B-line of each leg, (a, b, c)
+normalised likewise, null at infinity). For an architecturally singular
+design all Cⱼ vanish: ``cofactors``, ``B``, ``B_inf``, ``Lambda_plus`` and
+``b_lines`` are null (undefined, whatever rounding left in
+``cofactor_scale``). With a mechanism, ``pose`` (p, i at home) and
+``singularity`` (the reading of (17) there); with ``--legs``,
+``assembly_modes`` (the polynomial route, real ones first, each with its
+residual and multiplicity: coincident modes, at the leg lengths of a singular
+configuration, are listed once), ``real_modes`` (distinct real poses) and,
+with ``--framework``, the modes found by the closedchain mechanism route and
+whether the two agree;
 with ``--move-base I:T`` (leg I moved by T along its B-line) or
 ``--move-platform I:Z`` (leg I's platform attachment moved to Z, allowed iff
 its base attachment is at B), ``rearranged``: the new design and its
@@ -153,8 +160,9 @@ def _invariants(design):
     point = b_point(design)
     line = b_infinity(design)
     plus = lambda_plus(design)
-    lines = []
-    for row in b_line(design, design.platform):
+    undefined = kind.name == "architecturally singular"
+    lines = None if undefined else []
+    for row in () if undefined else b_line(design, design.platform):
         norm = float(np.hypot(row[0], row[1]))
         lines.append(None if norm <= kind.rtol * float(np.linalg.norm(row)) else (row / norm).tolist())
     return {
@@ -162,7 +170,7 @@ def _invariants(design):
         "family": kind.name,
         "family_margins": kind.to_dict()["margins"],
         "rtol": kind.rtol,
-        "cofactors": (values / scale).tolist() if scale > 0 else values.tolist(),
+        "cofactors": None if undefined else (values / scale).tolist(),
         "cofactor_scale": scale,
         "B": None if point is None else point.tolist(),
         "B_inf": None if line is None else line.tolist(),
@@ -195,8 +203,10 @@ def _modes(design, arguments, result):
     try:
         modes = assembly_modes(design, lengths)
     except DesignError as error:
-        option = "--legs" if error.field == "legs" else "--base"
-        raise InputError(f"{option}: {str(error).split(': ', 1)[-1]}") from None
+        if error.field == "legs":
+            raise InputError(f"--legs: {str(error).split(': ', 1)[-1]}") from None
+        source = arguments.file if arguments.file is not None else "--base, --platform"
+        raise InputError(f"{source}: {str(error).split(': ', 1)[-1]}") from None
     result["legs"] = lengths
     result["assembly_modes"] = [mode.to_dict() for mode in modes]
     result["real_modes"] = sum(mode.real for mode in modes)
@@ -243,12 +253,14 @@ def _design_text(result, indent=""):
     lines = [f"{indent}base      " + " ".join(f"({x:g}, {y:g})" for x, y in result["design"]["base"]),
              f"{indent}platform  " + " ".join(f"{z:g}" for z in result["design"]["platform"]),
              f"{indent}family    {result['family']}  [margins: architecture {margins['architecture']:.2e}, "
-             f"B {margins['B']:.2e}, B_inf {margins['B_inf']:.2e}; cut {result['rtol']:g}]",
-             f"{indent}cofactors C1..C6 ∝ {_vector(result['cofactors'])}",
-             f"{indent}B         {_vector(result['B'])}",
-             f"{indent}B_inf     {'at infinity' if result['B_inf'] is None else _line(result['B_inf'])}",
-             f"{indent}Lambda+   {'undefined' if result['Lambda_plus'] is None else _line(result['Lambda_plus'])}"]
-    return lines
+             f"B {margins['B']:.2e}, B_inf {margins['B_inf']:.2e}; cut {result['rtol']:g}]"]
+    if result["cofactors"] is None:
+        return lines + [f"{indent}cofactors all vanish: C1..C6, B, B_inf, Lambda+ and the B-lines are undefined"]
+    return lines + [
+        f"{indent}cofactors C1..C6 ∝ {_vector(result['cofactors'])}",
+        f"{indent}B         {_vector(result['B'])}",
+        f"{indent}B_inf     {'at infinity' if result['B_inf'] is None else _line(result['B_inf'])}",
+        f"{indent}Lambda+   {'undefined' if result['Lambda_plus'] is None else _line(result['Lambda_plus'])}"]
 
 
 def _line(coefficients):
@@ -264,11 +276,15 @@ def _text(result):
                      f"{'singular' if reading['singular'] else 'regular'} (margin {reading['margin']:.2e})")
     if "assembly_modes" in result:
         modes = result["assembly_modes"]
-        lines.append(f"  assembly modes: {len(modes)} ({result['real_modes']} real)")
+        counted = sum(mode["multiplicity"] for mode in modes)
+        repeated = (f", {len(modes)} distinct: the lengths are at a singular configuration"
+                    if counted > len(modes) else "")
+        lines.append(f"  assembly modes: {counted} ({result['real_modes']} real{repeated})")
         for mode in modes:
             if mode["real"]:
+                double = f"  (multiplicity {mode['multiplicity']})" if mode["multiplicity"] > 1 else ""
                 lines.append(f"    real     p = {_vector(mode['p'])}  i = {_vector(mode['i'])}  "
-                             f"residual {mode['residual']:.1e}")
+                             f"residual {mode['residual']:.1e}{double}")
             else:
                 lines.append(f"    complex  p = {_vector(mode['p']['real'])} + i·{_vector(mode['p']['imag'])}")
         if "routes_agree" in result:

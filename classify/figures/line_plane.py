@@ -63,8 +63,11 @@ def draw_b_lines(design, axes=None, title=None):
     Returns
     -------
     matplotlib.figure.Figure
+        For an architecturally singular design (all Cⱼ vanish) there are no
+        B-lines, B, B∞ or Λ⁺: only the base attachments are drawn, and the
+        title says so.
     """
-    from ..line_plane import b_infinity, b_line, b_point, lambda_plus
+    from ..line_plane import b_infinity, b_line, b_point, family, lambda_plus
 
     if axes is None:
         figure = _figure(5, 5)
@@ -73,7 +76,10 @@ def draw_b_lines(design, axes=None, title=None):
     plus = lambda_plus(design)
     copies = None if plus is None else plus[1]
     limits = _limits(design, [point, copies])
-    for index, line in enumerate(b_line(design, design.platform)):
+    singular = family(design).name == "architecturally singular"
+    if singular:
+        title = "architecturally singular: no B-lines" if title is None else f"{title} (architecturally singular)"
+    for index, line in enumerate(() if singular else b_line(design, design.platform)):
         segment = _segment(line, limits)
         if segment is not None:
             axes.plot(segment[:, 0], segment[:, 1], "-", lw=0.8, color=f"C{index}", label=f"B-line {index + 1}")

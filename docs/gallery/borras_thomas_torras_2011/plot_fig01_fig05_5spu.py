@@ -16,11 +16,12 @@ by :func:`classify.line_plane.singularity_reading`. The paper's Fig. 5 poses
 (p = (5, 8, 13), i = (1/3, −2/3, −2/3) and p = (7√6 − 7, 4, 14)) belong to a
 design the text does not give, so they are not reproduced.
 
-The classifier also reports the free spin of the platform about Λ (a
-locked-actuator freedom at every configuration) — with the ``pose``
-end-effector, every configuration is an actuator singularity; the paper's
-tool point and axis would ignore the spin (the ``tool`` output is not in the
-package yet, :doc:`/line_plane`).
+The catalogue's end-effector is the paper's axisymmetric tool (``output:
+tool``: the point p and the direction i of Λ), which the free spin of the
+platform about Λ does not move: the classifier counts that spin as an idle
+freedom, so G has rank 5 on the 6-dimensional C-space at a regular pose and
+drops below it exactly on the zero set of (17) (:doc:`/line_plane`, "The
+tool and its spin").
 """
 
 # %%
@@ -46,4 +47,4 @@ for index, (name, where) in enumerate((("regular", "Figs. 1-2: a regular pose"),
           f"distance from A to B_μ = {reading.distance:.2e}; polynomial (17) margin {reading.margin:.2e} "
           f"-> {'singular' if reading.singular else 'regular'}")
     print(f"    classify: {', '.join(report.kinds) or 'regular'}; rank G {report.actuator.rank}/"
-          f"{report.actuator.expected_rank} (the spin about Λ)")
+          f"{report.actuator.expected_rank}, idle freedoms {report.idle_freedoms} (the spin about Λ)")
