@@ -12,9 +12,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from manifold import DEFAULT_RTOL, ProjectionError, continue_curve, project, tangent_basis
+from manifold import DEFAULT_RTOL, ProjectionError, continue_curve, numerical_rank, project, tangent_basis
 
 from .metrics import metric_root
+from .survey import decision_blocks
 
 __all__ = ["path_configurations", "singular_crossings"]
 
@@ -54,15 +55,18 @@ def path_configurations(model, point, count, step=0.05, direction=None, rtol=DEF
 
 
 def _aligned_basis(model, point, previous, rtol):
-    """A tangent basis at `point` turned to be closest to `previous` (orthogonal Procrustes)."""
+    """A tangent basis at `point` turned to be closest to `previous` (orthogonal Procrustes in the inner product
+    ``⟨v, w⟩_s = Σ vᵢ wᵢ / sᵢ²`` in which the bases are orthonormal: in the plain product of joint coordinates,
+    a slide's scale s = 200 outweighs the angles, and the turn could mirror the basis between two close points)."""
     basis = tangent_basis(model.manifold, point, rtol=rtol)[0]
     if previous is None or basis.shape != previous.shape:
         return basis
-    left, _, right = np.linalg.svd(basis.T @ previous)
+    scales = model.manifold.ambient.tangent_scales[:, None]
+    left, _, right = np.linalg.svd((basis / scales).T @ (previous / scales))
     return basis @ left @ right
 
 
-def _determinants(model, point, basis):
+def _raw_determinants(model, point, basis):
     """``(det(E^½ Dπ T), det(H^½ Df T))``, each None where the matrix is not square."""
     actuator = model.actuators @ basis
     values = [np.linalg.det(actuator) if actuator.shape[0] == actuator.shape[1] else None, None]
@@ -72,15 +76,31 @@ def _determinants(model, point, basis):
     return values
 
 
+def _determinants(model, point, basis, rtol):
+    """:func:`_raw_determinants`, each None too where the rank decision of :func:`classify.classify`
+    (:func:`classify.survey.decision_blocks`) finds the map singular: only the signs at regular points
+    bracket a crossing (at a singular point, or along a branch singular throughout, the sign of a determinant
+    that is zero but for rounding means nothing)."""
+    values = _raw_determinants(model, point, basis)
+    blocks = decision_blocks(model, point, basis)
+    for which, (block, scale) in enumerate((blocks[:2], blocks[2:])):
+        if values[which] is not None and numerical_rank(block, rtol=rtol, scale=scale).rank < len(block):
+            values[which] = None
+    return values
+
+
 def singular_crossings(model, points, rtol=DEFAULT_RTOL, tolerance=1e-12, max_bisections=80):
     """The actuator and end-effector singularities crossed between consecutive points of a path.
 
     With T carried continuously along the path (each basis turned to the
     previous one), ``det(E^½ Dπ T)`` and ``det(H^½ Df T)`` are continuous; a
-    sign change between two consecutive points brackets a singularity, found
-    by bisection: the midpoint ``p ⊕ ½ (q ⊖ p)`` projected back onto M.
-    Only square maps (as many inputs, or outputs, as degrees of freedom) are
-    followed; a path that crosses a C-space singularity is not bisected there.
+    sign change between two consecutive points, both regular for the kind
+    (the rank decision of :func:`classify.classify`), brackets a singularity,
+    found by bisection: the midpoint ``p ⊕ ½ (q ⊖ p)`` projected back onto M.
+    A singular point of the path (its start, say) is no crossing: it is on
+    the path already. Only square maps (as many inputs, or outputs, as
+    degrees of freedom) are followed; a path that crosses a C-space
+    singularity is not bisected there.
 
     Parameters
     ----------
@@ -106,14 +126,14 @@ def singular_crossings(model, points, rtol=DEFAULT_RTOL, tolerance=1e-12, max_bi
     bases, values = [], []
     for point in points:
         bases.append(_aligned_basis(model, point, bases[-1] if bases else None, rtol))
-        values.append(_determinants(model, point, bases[-1]))
+        values.append(_determinants(model, point, bases[-1], rtol))
     found = []
     for index in range(len(points) - 1):
         for which, kind in enumerate(("actuator", "end_effector")):
             first, second = values[index][which], values[index + 1][which]
             if first is None or second is None or first * second >= 0:
                 continue
-            low, high, low_basis, low_value = points[index], points[index + 1], bases[index], first
+            low, high, low_basis, low_value, high_value = points[index], points[index + 1], bases[index], first, second
             for _ in range(max_bisections):
                 if np.linalg.norm(ambient.inverse_retract(low, high) / scales) < tolerance:
                     break
@@ -122,13 +142,10 @@ def singular_crossings(model, points, rtol=DEFAULT_RTOL, tolerance=1e-12, max_bi
                 except ProjectionError:
                     break
                 middle_basis = _aligned_basis(model, middle, low_basis, rtol)
-                middle_value = _determinants(model, middle, middle_basis)[which]
-                if middle_value is None:
-                    break
+                middle_value = _raw_determinants(model, middle, middle_basis)[which]
                 if middle_value * low_value > 0:
                     low, low_basis, low_value = middle, middle_basis, middle_value
                 else:
-                    high = middle
-            found.append((index, low if abs(low_value) < abs(_determinants(model, high, _aligned_basis(
-                model, high, low_basis, rtol))[which] or np.inf) else high, kind))
+                    high, high_value = middle, middle_value
+            found.append((index, low if abs(low_value) < abs(high_value) else high, kind))
     return found

@@ -6,8 +6,8 @@ import numpy as np
 import pytest
 
 from classify import (
-    REASONS, Model, compare, correspondence, expected_kinds, joint_output_model, path_configurations,
-    singular_crossings, survey_of,
+    REASONS, Model, classify, compare, correspondence, expected_kinds, joint_output_model, model_of,
+    path_configurations, singular_crossings, survey_of,
 )
 from classify.gosselin_angeles_examples import eq9_relation, slider_crank_coordinates, squared_relation
 from manifold import AmbientSpace, ImplicitManifold
@@ -178,6 +178,38 @@ def test_a_path_crosses_the_fold_and_the_dead_centre_exactly():
     assert [row.gosselin_angeles.kinds for row in result.rows] == [("II",), ("I",)]
     assert [row.park_kim.kinds for row in result.rows] == [("actuator",), ("end_effector",)]
     assert all(row.agree for row in result.rows)
+
+
+def crossings_classified(model, mechanism, count, step):
+    """The crossings of a path of M through the home, each with the kinds classify finds there."""
+    points, _ = path_configurations(model, home(mechanism), count, step=step)
+    return [(index, kind, classify(mechanism, point).kinds) for index, point, kind in
+            singular_crossings(model, points)], points
+
+
+def test_a_path_of_the_3prr_keeps_its_tangent_basis_and_finds_only_true_crossings():
+    """The 3-PRR's slides have scale 200 (Chablat et al. 2002): the tangent basis carried along the path was
+    turned in the plain product of joint coordinates and mirrored between path+23 and path+24, which hid the
+    actuator singularity there and put end-effector "crossings" at regular points. Turned in the product in
+    which it is orthonormal, every crossing is a singularity of its kind, and that one is found."""
+    mechanism = entry("3-prr").mechanism()
+    found, _ = crossings_classified(model_of(mechanism), mechanism, 40, 0.1)
+    assert all(kind in kinds for _, kind, kinds in found), found
+    assert (40 + 23, "actuator") in [(index, kind) for index, kind, _ in found]
+
+
+def test_a_singular_start_or_a_singular_branch_is_no_crossing():
+    """At a singular start (the five-bar's distal links aligned, Park & Kim Fig. 6a) the start is a row of the
+    path already, and along a branch singular throughout (the slider-crank's constant branch slider driven,
+    G-A eqs. 15-17) the determinant's sign is rounding: neither brackets a crossing."""
+    mechanism = entry("five-bar").mechanism("fig6a_distal_aligned")
+    found, _ = crossings_classified(model_of(mechanism), mechanism, 6, 0.05)
+    assert found == []
+    mechanism = entry("slider-crank").mechanism("eq17_constant_branch_slider_driven")
+    model = joint_output_model(mechanism, ["crank"])
+    points, _ = path_configurations(model, home(mechanism), 5, step=0.05)
+    assert all(classify(model, point).kinds == ("actuator",) for point in points)
+    assert singular_crossings(model, points) == []
 
 
 def test_summary_counts_and_text():
