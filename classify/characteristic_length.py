@@ -6,11 +6,18 @@ Jacobians J̄ = Ā⁻¹B, K̄ = B⁻¹Ā dimensionless. L is found three ways:
 
 * in closed form where the isotropy conditions K̄K̄ᵀ = τ²1 (eqs. 9a-f) have a
   solution: for the 3-PRR, L = √(−k₁k₂ / l₁ᵀl₂) (from eq. 9d), which under
-  the conditions (10a-d) is L = √2 r sin γ (§3.4), γ = ∠BᵢCᵢP;
+  the conditions (10a-d) is L = √2 r sin γ (§3.4), γ = ∠BᵢCᵢP; the isotropic
+  postures form a family (one L per γ), and the paper's choice γ = π/2
+  (Fig. 4a) is its largest L, so the length reported is the largest L at which
+  an isotropic posture exists (:func:`three_prr_characteristic_length`): √2 r
+  where γ = π/2 is reachable;
 * by minimising κ(K̄) over L *and* the posture (scipy.optimize), reported with
   the optimal posture (:func:`optimal_characteristic_length`);
 * for any other mechanism with a pose output, by minimising κ(J̄) over L
-  and the posture in a chart of M (:func:`mechanism_optimal_length`).
+  and the posture in a chart of M (:func:`mechanism_optimal_length`); where
+  κ = 1 is reached, along the family of isotropic postures to its largest L
+  (:func:`largest_isotropic_length`), so that L depends neither on the
+  optimiser's start nor on the chart, axis signs or units.
 
 Isotropic postures (κ = 1) are located by minimising κ over postures from
 several starts and keeping the minima with κ − 1 ≤ a tolerance
@@ -29,7 +36,7 @@ from .conditioning_matrices import three_prr_matrices
 __all__ = [
     "CharacteristicLength", "three_prr_length", "three_prr_leg_angles", "isotropy_length", "isotropy_residuals",
     "three_prr_kappa", "optimal_characteristic_length", "isotropic_postures",
-    "mechanism_optimal_length",
+    "mechanism_optimal_length", "largest_isotropic_length", "three_prr_characteristic_length",
 ]
 
 #: κ − 1 below which a minimum counts as isotropic (the optimiser reaches ~1e-10 on the 3-PRR)
@@ -217,6 +224,173 @@ def isotropic_postures(kappa, starts, tolerance=ISOTROPY_TOLERANCE, separation=1
     return found
 
 
+#: relative width of the bracket at which the largest isotropic L is taken as found (well below the precision
+#: that ISOTROPY_TOLERANCE on κ gives L: near the largest L, κ − 1 grows like the relative excess of L)
+LENGTH_PRECISION = 1e-8
+
+
+def largest_isotropic_length(kappa, length, posture, high, tolerance=ISOTROPY_TOLERANCE, max_evaluations=600,
+                             precision=LENGTH_PRECISION, length_at=None):
+    """The largest L at which an isotropic posture exists, continued from an isotropic (L, posture).
+
+    Where κ = 1 is reached, it is reached along a family: on the 3-PRR every γ gives an isotropic posture
+    with L = √2 r sin γ (Chablat, Caro, Wenger & Angeles 2002 §3.4), so "the L minimising κ over L and the
+    posture" is whichever member an optimiser reaches, and it changes with the chart, axis signs and units.
+    The canonical member is the largest L: for the 3-PRR it is the paper's √2 r (γ = π/2, "a configuration
+    furthest away from parallel singularities", §3.4) wherever γ = π/2 is reachable, and the γ closest to
+    π/2 otherwise. It depends on the mechanism only (scaled with its lengths).
+
+    L is doubled while an isotropic posture is found (Nelder–Mead over the posture from the last isotropic
+    one), then bisected (geometrically) until the bracket's relative width is below `precision`. A posture
+    counts as isotropic with κ − 1 ≤ `tolerance`, so the bracket can end up to about `tolerance` (relative)
+    above the largest L; with `length_at`, L is then replaced by the isotropic L of the posture found (its
+    minimiser of κ over L, ≤ the largest L), which removes that excess where the largest L is a smooth
+    maximum over the family (γ = π/2 on the 3-PRR: the error becomes quadratic).
+
+    Parameters
+    ----------
+    kappa : callable
+        ``kappa(length, posture) -> float`` (∞ where undefined).
+    length : float
+        An L at which `posture` is isotropic.
+    posture : array_like, shape=[p]
+    high : float
+        The largest L tried.
+    tolerance : float
+        κ − 1 ≤ tolerance counts as isotropic.
+    max_evaluations : int
+        Of κ, per posture minimisation.
+    precision : float
+    length_at : callable, optional
+        ``length_at(posture) -> (L, κ)``: the L minimising κ at a posture, and κ there.
+
+    Returns
+    -------
+    length : float
+        The largest isotropic L found (the lower end of the final bracket, or `length_at` there).
+    posture : ndarray, shape=[p]
+        An isotropic posture there.
+    kappa : float
+        κ there (≤ 1 + tolerance).
+    """
+    from scipy.optimize import minimize
+
+    def isotropic_at(trial, start):
+        result = minimize(lambda variables: _finite(kappa(trial, variables)), start, method="Nelder-Mead",
+                          options={"xatol": 1e-12, "fatol": 1e-14, "maxiter": max_evaluations,
+                                   "maxfev": max_evaluations})
+        return float(result.fun) - 1.0 <= tolerance, np.asarray(result.x, dtype=float), float(result.fun)
+
+    posture = np.asarray(posture, dtype=float)
+    best = _finite(kappa(length, posture))
+    upper = None
+    while upper is None and length < high:
+        trial = min(2.0 * length, high)
+        isotropic, found, value = isotropic_at(trial, posture)
+        if isotropic:
+            length, posture, best = trial, found, value
+        else:
+            upper = trial
+    while upper is not None and upper / length - 1.0 > precision:
+        trial = float(np.sqrt(length * upper))
+        isotropic, found, value = isotropic_at(trial, posture)
+        if isotropic:
+            length, posture, best = trial, found, value
+        else:
+            upper = trial
+    if length_at is not None:
+        snapped, value = length_at(posture)
+        if value - 1.0 <= tolerance:
+            length, best = snapped, value
+    return float(length), posture, float(best)
+
+
+#: orientations φ sampled per working mode by :func:`three_prr_characteristic_length` before refinement
+THREE_PRR_ORIENTATION_SAMPLES = 3600
+#: relative isotropy residual (eqs. 9a-f, :func:`isotropy_residuals`) below which a posture counts as isotropic
+ISOTROPY_RESIDUAL_TOLERANCE = 1e-8
+#: ‖mᵢ‖ below this fraction of l: B singular (a serial singularity; K̄ undefined)
+SERIAL_TOLERANCE = 1e-9
+
+
+def _three_prr_isotropic_lengths(orientations, signs, platform_radius, base_radius, leg_length):
+    """L of eq. 9d at P = O and the given orientations, NaN where the posture is not isotropic, shape=[s]."""
+    orientations = np.atleast_1d(np.asarray(orientations, dtype=float))
+    poses = np.stack([np.zeros_like(orientations), np.zeros_like(orientations), orientations], axis=-1)
+    direct, inverse, reachable = three_prr_matrices(poses, signs, platform_radius, base_radius, leg_length)
+    diagonal = np.abs(np.diagonal(np.nan_to_num(inverse), axis1=-2, axis2=-1))
+    regular = reachable & np.all(diagonal > SERIAL_TOLERANCE * leg_length, axis=-1)
+    safe_direct = np.where(regular[:, None, None], direct, np.eye(3))
+    safe_inverse = np.where(regular[:, None, None], inverse, np.eye(3))
+    lengths = isotropy_length(safe_direct)
+    residual = np.abs(isotropy_residuals(safe_direct, safe_inverse, np.where(np.isfinite(lengths), lengths, 1.0)))
+    isotropic = regular & np.isfinite(lengths) & (np.max(residual, axis=(-2, -1)) <= ISOTROPY_RESIDUAL_TOLERANCE)
+    return np.where(isotropic, lengths, np.nan)
+
+
+def three_prr_characteristic_length(platform_radius=100.0, base_radius=200.0, leg_length=200.0,
+                                    samples=THREE_PRR_ORIENTATION_SAMPLES):
+    """The 3-PRR's characteristic length: the largest L at which an isotropic posture exists (2002 §3.3-3.4).
+
+    The isotropy conditions (eqs. 9a-f, 10a-d) put the isotropic postures of this layout at P = O (the
+    centre of the base triangle: the legs, pivots and rails then all turn by 2π/3 from leg to leg), with equal
+    γᵢ and L = √(−k₁k₂ / l₁ᵀl₂) = √2 r sin γ (§3.4), one for each reachable orientation φ. They form a
+    family, so minimising κ over (L, posture) does not fix L. The paper takes γ = π/2 (Fig. 4a, "furthest
+    away from parallel singularities"), the largest L of the family: this function returns that largest L,
+    which is √2 r whenever γ = π/2 is reachable (r² + l² ≥ R²/4 at the catalogue's layout) and
+    √2 r sin γ at the reachable γ closest to π/2 otherwise. It depends on (r, R, l) only, and scales with
+    them.
+
+    Parameters
+    ----------
+    platform_radius, base_radius, leg_length : float
+        r, R, l.
+    samples : int
+        Orientations sampled over [−π, π) per working mode; the best is refined by a bounded scalar search
+        between its neighbours.
+
+    Returns
+    -------
+    CharacteristicLength
+        ``method="closed_form"`` (L = √2 r sin γ at the isotropic posture found), the posture (0, 0, φ) and
+        κ(K̄) there (1 up to rounding), or None when no posture of any working mode is isotropic.
+    """
+    from mechanisms.catalogue.three_prr import WORKING_MODES
+    from scipy.optimize import minimize_scalar
+
+    orientations = np.linspace(-np.pi, np.pi, samples, endpoint=False)
+    step = orientations[1] - orientations[0]
+    best = None
+    for mode in sorted(WORKING_MODES):
+        signs = WORKING_MODES[mode]
+        lengths = _three_prr_isotropic_lengths(orientations, signs, platform_radius, base_radius, leg_length)
+        if not np.any(np.isfinite(lengths)):
+            continue
+        index = int(np.nanargmax(lengths))
+        centre = orientations[index]
+
+        def negative_length(orientation):
+            value = _three_prr_isotropic_lengths(orientation, signs, platform_radius, base_radius, leg_length)[0]
+            return -value if np.isfinite(value) else 0.0
+
+        refined = minimize_scalar(negative_length, bounds=(centre - step, centre + step), method="bounded",
+                                  options={"xatol": 1e-12})
+        orientation, value = (refined.x, -refined.fun) if -refined.fun >= lengths[index] else (centre,
+                                                                                              lengths[index])
+        if best is None or value > best[0] * (1 + 1e-12):
+            best = (float(value), float(orientation), signs)
+    if best is None:
+        return None
+    value, orientation, signs = best
+    pose = np.array([0.0, 0.0, orientation])
+    gamma = float(three_prr_leg_angles(pose, signs, platform_radius, base_radius, leg_length)[0])
+    kappa = float(three_prr_kappa(value, pose, signs, "B-1A", platform_radius, base_radius, leg_length))
+    return CharacteristicLength(value, "closed_form", (0.0, 0.0, orientation), kappa,
+                                f"Chablat, Caro, Wenger & Angeles 2002 §3.4: L = √2 r sin γ at the isotropic "
+                                f"posture with γ closest to π/2 (the largest isotropic L; γ = "
+                                f"{np.degrees(gamma):.6g}°, working mode signs {tuple(signs)})")
+
+
 # ------------------------------------------------------------------------------------------------ any mechanism
 
 def _posture_chart(mechanism, point, length):
@@ -250,7 +424,10 @@ def mechanism_optimal_length(mechanism, point, rng=None, restarts=3, spread=0.5,
     minimisation (``minimize_scalar`` on log L); the posture is minimised over by Nelder–Mead in a chart of M
     at `point` (``project(point ⊕ T v)``, T a tangent basis, v ∈ ℝ^m, m = dim M) from `point` and `restarts`
     random starts (v ~ `spread`·N(0, 1)). Postures with κ − 1 ≤ `tolerance` at the optimal L are isotropic
-    (Chablat, Caro, Wenger & Angeles 2002 §3.3: K̄K̄ᵀ = τ²1).
+    (Chablat, Caro, Wenger & Angeles 2002 §3.3: K̄K̄ᵀ = τ²1). Where the minimum is isotropic, κ = 1 holds
+    along a family of (L, posture) (§3.4: L = √2 r sin γ on the 3-PRR), and the minimiser is an arbitrary
+    member: L is then continued to the family's largest value (:func:`largest_isotropic_length`), the
+    paper's γ = π/2 on the 3-PRR, which depends neither on the start nor on the chart, axis signs or units.
 
     Parameters
     ----------
@@ -274,8 +451,8 @@ def mechanism_optimal_length(mechanism, point, rng=None, restarts=3, spread=0.5,
         ``method="optimised"``, ``posture`` = the optimal configuration's joint displacements from home (one
         per coordinate, ``mechanism.coordinate_names``), ``kappa`` = κ(J̄) there.
     isotropic : list of (dict, float)
-        (joint displacements, κ − 1) of the minima from the starts with κ − 1 ≤ `tolerance` at the optimal L,
-        distinct.
+        (joint displacements, κ − 1) of the minima with κ − 1 ≤ `tolerance` at the L found, distinct; the
+        posture of the largest isotropic L first.
     """
     from mechanisms import to_displacements
     from scipy.optimize import minimize, minimize_scalar
@@ -323,16 +500,38 @@ def mechanism_optimal_length(mechanism, point, rng=None, restarts=3, spread=0.5,
     value, posture = min(minima, key=lambda item: item[0])
     configuration, jacobian = evaluate(posture)
     length, kappa = best_length(jacobian)
+    reference = ("κ(J̄) minimised over L and the posture (Chablat, Caro, Wenger & Angeles 2002 §3.2-3.4), "
+                 "J̄ = H^½ Df T (Dπ T)⁻¹")
+    if kappa - 1.0 <= tolerance:   # an isotropic family: its largest L (2002 §3.4), not the optimiser's pick
+        def kappa_at(trial_length, trial_posture):
+            _, trial_jacobian = evaluate(trial_posture)
+            if trial_jacobian is None or not np.all(np.isfinite(trial_jacobian)):
+                return np.inf
+            return singular_value_ratio(scaled(trial_jacobian, trial_length))
+
+        def length_at(trial_posture):
+            _, trial_jacobian = evaluate(trial_posture)
+            return best_length(trial_jacobian)
+
+        length, posture, kappa = largest_isotropic_length(kappa_at, length, posture, high, tolerance,
+                                                          max_evaluations=max(max_evaluations, 600),
+                                                          length_at=length_at)
+        configuration, jacobian = evaluate(posture)
+        minima.insert(0, (kappa, posture))
+        reference += ("; κ = 1 on a family of (L, posture): the largest L with an isotropic posture (2002 §3.4: "
+                      "L = √2 r sin γ is largest at γ = π/2, the isotropic posture furthest from parallel "
+                      "singularities)")
+    else:
+        reference += "; no isotropic posture found (κ > 1 at the minimum)"
 
     def displacements(configuration):
         return {name: value for name, value in to_displacements(mechanism, configuration).items()}
 
     found = CharacteristicLength(length, "optimised",
                                  tuple(float(entry) for entry in _coordinates(displacements(configuration))),
-                                 kappa, "κ(J̄) minimised over L and the posture (Chablat, Caro, Wenger & Angeles "
-                                        "2002 §3.2-3.4), J̄ = H^½ Df T (Dπ T)⁻¹")
+                                 kappa, reference)
     isotropic, seen = [], []
-    for _, candidate in sorted(minima, key=lambda item: item[0]):
+    for _, candidate in minima[:1] + sorted(minima[1:], key=lambda item: item[0]):
         configuration, jacobian = evaluate(candidate)
         if jacobian is None:
             continue

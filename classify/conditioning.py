@@ -35,9 +35,12 @@ scaling or reordering the rows of ``[B A]`` changes κ(A) and κ(B) but not
 A⁻¹B. κ(A) and κ(B) are therefore taken from a paper's own F where it gives
 one (:mod:`classify.conditioning_matrices`); for a mechanism without one
 (:func:`mechanism_condition_numbers`) they are those of the derived relation
-of :func:`classify.gosselin_angeles.derived_gosselin_angeles`, whose rows
-``[B A]`` are orthonormal in the weighted coordinates (E^½ θ̇ / s_a,
-H^½ ẋ / s_j): that normalisation is stated with the result.
+(:func:`derived_relation_ratios`), whose rows ``[B A]`` are orthonormal in
+coordinates that all have the unit of length: actuated angles multiplied by
+L (:func:`actuator_lengths`), the output's rotations multiplied by L by the
+end-effector metric, as the characteristic length homogenises Ā (2002
+eq. 7). κ(A) and κ(B) then do not change with the unit of length (L scaled
+with it); that normalisation is stated with the result.
 """
 
 from __future__ import annotations
@@ -50,6 +53,7 @@ __all__ = [
     "MATRICES", "DEFINITIONS", "ConditionNumbers",
     "singular_value_ratio", "square_root_ratio", "inverse_condition", "normalise_orientation",
     "condition_numbers", "tangent_bases", "mechanism_jacobians", "mechanism_condition_numbers",
+    "actuator_lengths", "derived_relation_ratios", "DERIVED_NORMALISATION",
 ]
 
 #: the matrices whose condition numbers are reported, in order (JSON keys of ``closedchain conditioning``)
@@ -365,24 +369,22 @@ def mechanism_condition_numbers(mechanism, points, length=None, rtol=1e-9):
     length : float, optional
         L of the end-effector metric (default: the mechanism's characteristic length).
     rtol : float
-        Relative cut of the derived relation's rank decisions.
+        Relative cut of the derived relation's rank decision (:func:`derived_relation_ratios`).
 
     Returns
     -------
     ConditionNumbers
         ``"A-1B"``, ``"B-1A"`` from :func:`mechanism_jacobians` (batched); ``"lambda"`` from
-        :func:`classify.metrics.proper_values` (Park & Kim); ``"A"`` and ``"B"`` from
-        :func:`classify.gosselin_angeles.derived_gosselin_angeles` one configuration at a time, their rows
-        ``[B A]`` orthonormal in the weighted coordinates (the stated normalisation; another F gives other
-        κ(A), κ(B)).
+        :func:`classify.metrics.proper_values` (Park & Kim); ``"A"`` and ``"B"`` of the derived relation
+        (:func:`derived_relation_ratios`, batched): rows of ``[B A]`` orthonormal in coordinates of one unit,
+        the length, so that κ(A), κ(B) do not change with the unit of length (another F gives other κ(A),
+        κ(B)).
     """
-    from manifold import tangent_basis
-
-    from .gosselin_angeles import derived_gosselin_angeles
-    from .metrics import metric_root, proper_values
+    from .metrics import proper_values
     from .model import model_of
 
     model = model_of(mechanism, length_scale=length)
+    resolved = model.mechanism.characteristic_length if length is None else float(length)
     points = np.atleast_2d(np.asarray(points, dtype=float))
     jacobians, actuator_blocks, output_blocks = mechanism_jacobians(mechanism, points, length)
     jacobian_ratio = singular_value_ratio(jacobians)
@@ -393,17 +395,83 @@ def mechanism_condition_numbers(mechanism, points, length=None, rtol=1e-9):
         values = proper_values(actuator_blocks[regular], output_blocks[regular], np.eye(count), count)
         with np.errstate(divide="ignore"):
             lambdas[regular] = values[:, 0] / values[:, -1]
-    direct, inverse = np.full(len(points), np.nan), np.full(len(points), np.nan)
-    output_unroot = np.linalg.inv(metric_root(model.end_effector_metric))
-    input_unroot = np.diag(1.0 / np.sqrt(np.sum(model.actuators ** 2, axis=1)))
-    for index, point in enumerate(points):
-        basis = tangent_basis(model.manifold, point, rtol=rtol)[0]
-        result = derived_gosselin_angeles(model, point, basis, rtol=rtol)
-        if result.defined:  # back to the weighted coordinates: Ā = A H^-½ (eq. 7), B E^-½
-            direct[index] = singular_value_ratio(result.output_jacobian @ output_unroot)
-            inverse[index] = singular_value_ratio(result.input_jacobian @ input_unroot)
+    input_lengths = actuator_lengths(mechanism, model.actuators, resolved)
+    direct, inverse = derived_relation_ratios(input_lengths[:, None] * actuator_blocks, output_blocks, rtol)
     values = {"A": direct, "B": inverse, "A-1B": jacobian_ratio, "B-1A": jacobian_ratio.copy(), "lambda": lambdas}
-    resolved = model.mechanism.characteristic_length if length is None else float(length)
-    return ConditionNumbers(values, float(resolved), "singular_value_ratio",
-                            "derived relation: rows of [B A] orthonormal in the weighted coordinates "
-                            "(E^½ θ̇, H^½ ẋ with H = diag(L², 1, …) on rotations)")
+    return ConditionNumbers(values, float(resolved), "singular_value_ratio", DERIVED_NORMALISATION)
+
+
+#: how the derived relation's A and B are normalised (recorded on the results)
+DERIVED_NORMALISATION = ("derived relation: rows of [B A] orthonormal in coordinates of one unit, the length "
+                         "(L E^½ θ̇ for angular actuated rates, E^½ θ̇ for prismatic ones; H^½ ẋ with "
+                         "H = diag(L², 1, …) on rotations)")
+
+
+def actuator_lengths(mechanism, actuators, length):
+    """Per actuated coordinate, the factor that turns its weighted rate into a rate of length, shape=[a].
+
+    L for an actuated angle (a revolute joint, a rotation of a ball joint), 1 for a prismatic coordinate:
+    with the rotations of the output multiplied by L too (the end-effector metric), every input and output
+    of the derived relation is a rate of length, as Chablat, Caro, Wenger & Angeles 2002 eq. 7 makes Ā
+    homogeneous by dividing by the characteristic length.
+
+    Parameters
+    ----------
+    mechanism : Mechanism
+    actuators : ndarray, shape=[a, k]
+        E^½ Dπ (rows select the actuated joint coordinates).
+    length : float
+        L.
+
+    Returns
+    -------
+    ndarray, shape=[a]
+    """
+    from mechanisms.kinematics import kinematics_of
+
+    ambient = kinematics_of(mechanism).ambient
+    angular = np.ones(ambient.dim, dtype=bool)
+    for factor, part in zip(ambient.factors, ambient.tangent_slices):
+        angular[part] = factor != "R"
+    touches_angle = np.any((np.asarray(actuators) != 0) & angular, axis=1)
+    return np.where(touches_angle, float(length), 1.0)
+
+
+def derived_relation_ratios(input_blocks, output_blocks, rtol=1e-9):
+    """κ(A) and κ(B) of the relation ``A ẋ = B θ̇`` whose rows ``[B A]`` are an orthonormal basis of the
+    annihilator of V = {(P u, Q u)} (Gosselin & Angeles 1990 eq. 2, derived), batched.
+
+    Parameters
+    ----------
+    input_blocks : ndarray, shape=[b, n, n]
+        P: the actuated rates per tangent vector, in units of length (:func:`actuator_lengths`).
+    output_blocks : ndarray, shape=[b, n, n]
+        Q: the output rates per tangent vector, in units of length (H^½ Df T).
+    rtol : float
+        V has dimension n when σₙ > rtol·σ₁ of the stacked [P; Q] (2n × n). Both blocks in the one unit of
+        length, the stacked matrix is multiplied by c when the unit changes by c: the decision does not
+        depend on the unit. Where dim V < n (an idle freedom: a motion moving neither inputs nor outputs),
+        the relation is undefined (NaN).
+
+    Returns
+    -------
+    direct, inverse : ndarray, shape=[b]
+        κ(A) and κ(B) (σ_l/σ_s; ∞ where singular).
+
+    Notes
+    -----
+    Where P is regular, V is the graph of J = Q P⁻¹ and, with σ the singular values of J, κ(A) =
+    √((1 + σ₁²)/(1 + σₙ²)) and κ(B) = (σ₁/√(1 + σ₁²)) / (σₙ/√(1 + σₙ²)): both functions of the
+    dimensionless J only. Scaling P and Q by different factors (the former normalisation by ‖E^½ Dπ‖₂ and
+    ‖H^½ Df‖₂, whose revolute and prismatic columns scale differently with the unit) would change them.
+    """
+    stacked = np.concatenate([input_blocks, output_blocks], axis=-2)
+    count = input_blocks.shape[-1]
+    finite = np.all(np.isfinite(stacked), axis=(-2, -1))
+    safe = np.where(finite[:, None, None], stacked, np.vstack([np.eye(count), np.eye(count)]))
+    left, values, _ = np.linalg.svd(safe, full_matrices=True)
+    defined = finite & (values[:, -1] > rtol * values[:, 0])
+    annihilator = np.swapaxes(left[..., count:], -1, -2)      # [b, n, 2n], orthonormal rows: [B A]
+    direct = singular_value_ratio(annihilator[..., count:])
+    inverse = singular_value_ratio(annihilator[..., :count])
+    return np.where(defined, direct, np.nan), np.where(defined, inverse, np.nan)

@@ -177,7 +177,8 @@ def five_bar_leg_angles(points, base_point, proximal, distal, sign):
     return (np.where(reachable, proximal_angles, np.nan), np.where(reachable, distal_angles, np.nan), reachable)
 
 
-def five_bar_inverse_kinematics(points, signs, base=6.0, proximal=8.0, distal=5.0):
+def five_bar_inverse_kinematics(points, signs, base=6.0, proximal=8.0, distal=5.0, proximal_right=None,
+                                distal_right=None):
     """Angles θ1..θ4 reaching P = (x, y) in a working mode (Chablat, Wenger & Angeles 1998 §3.3).
 
     Parameters
@@ -185,6 +186,10 @@ def five_bar_inverse_kinematics(points, signs, base=6.0, proximal=8.0, distal=5.
     points : array_like, shape=[..., 2]
     signs : tuple of two ±1
         The signs of sin(θ3 − θ1) and sin(θ4 − θ2), B's diagonal (eq. 3c).
+    base, proximal, distal : float
+        L0 = ‖AB‖, L1, L2 (the left leg).
+    proximal_right, distal_right : float, optional
+        L3, L4 (the right leg); default L1, L2 (the symmetric design of the paper's §4).
 
     Returns
     -------
@@ -192,8 +197,10 @@ def five_bar_inverse_kinematics(points, signs, base=6.0, proximal=8.0, distal=5.
         NaN where out of reach.
     reachable : ndarray of bool, shape=[...]
     """
+    proximal_right = proximal if proximal_right is None else proximal_right
+    distal_right = distal if distal_right is None else distal_right
     theta1, theta3, left = five_bar_leg_angles(points, (0.0, 0.0), proximal, distal, signs[0])
-    theta2, theta4, right = five_bar_leg_angles(points, (base, 0.0), proximal, distal, signs[1])
+    theta2, theta4, right = five_bar_leg_angles(points, (base, 0.0), proximal_right, distal_right, signs[1])
     return np.stack([theta1, theta2, theta3, theta4], axis=-1), left & right
 
 

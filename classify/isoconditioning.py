@@ -189,24 +189,43 @@ def three_prr_map(xs, ys, signs, length, orientations, mode="", definition="sing
 
 
 def five_bar_cartesian_map(xs, ys, signs, mode="", definition="singular_value_ratio", base=6.0, proximal=8.0,
-                           distal=5.0):
+                           distal=5.0, proximal_right=None, distal_right=None):
     """The five-bar's map over P = (x, y) in a working mode (Chablat, Wenger & Angeles 1998 Figs. 3, 5).
+
+    Parameters
+    ----------
+    xs, ys : array_like, shape=[nx], [ny]
+    signs : tuple of two ±1
+        The working mode (signs of B's diagonal, eq. 3c).
+    mode : str
+    definition : str
+    base, proximal, distal : float
+        L0, L1, L2.
+    proximal_right, distal_right : float, optional
+        L3, L4 of the right leg (eqs. 3b-c hold for any L1..L4); default L1, L2, the paper's symmetric design.
 
     Returns
     -------
     ConditioningMap
-        With the angles θ1..θ4 of each point in ``extra["angles"]`` (shape=[nx, ny, 4]).
+        With the angles θ1..θ4 of each point in ``extra["angles"]`` (shape=[nx, ny, 4]) and the design
+        (L0..L4) in ``extra["design"]``.
     """
     from .conditioning_matrices import five_bar_inverse_kinematics, five_bar_matrices
 
+    proximal_right = proximal if proximal_right is None else proximal_right
+    distal_right = distal if distal_right is None else distal_right
     xs, ys = np.asarray(xs, dtype=float), np.asarray(ys, dtype=float)
     points = np.stack(np.meshgrid(xs, ys, indexing="ij"), axis=-1)
-    angles, reachable = five_bar_inverse_kinematics(points, signs, base, proximal, distal)
-    direct, inverse = five_bar_matrices(np.where(reachable[..., None], angles, 0.0), proximal, distal)
-    values = _inverses(direct, inverse, reachable, 1.0, (), definition, (distal, proximal * distal))
+    angles, reachable = five_bar_inverse_kinematics(points, signs, base, proximal, distal, proximal_right,
+                                                    distal_right)
+    direct, inverse = five_bar_matrices(np.where(reachable[..., None], angles, 0.0), proximal, distal,
+                                        proximal_right, distal_right)
+    scales = (max(distal, distal_right), max(proximal * distal, proximal_right * distal_right))
+    values = _inverses(direct, inverse, reachable, 1.0, (), definition, scales)
     return ConditioningMap(mode, ("x", "y"), (xs, ys), values, reachable, 1.0, None, definition,
                            {"signs": tuple(signs), "angles": angles,
-                            "design": {"L0": base, "L1": proximal, "L2": distal}})
+                            "design": {"L0": base, "L1": proximal, "L2": distal, "L3": proximal_right,
+                                       "L4": distal_right}})
 
 
 def five_bar_joint_map(theta1s, theta2s, assembly, mode="", definition="singular_value_ratio", base=6.0,

@@ -6,8 +6,9 @@ Chablat, Wenger & Angeles 1998).
 Without ``--grid``: κ of Ā, B, Ā⁻¹B, B⁻¹Ā and Park & Kim's λ₁/λₙ at the one
 configuration (``home ⊕ --at``, or the named configuration). The catalogue's
 ``3-prr`` and ``five-bar`` use the papers' own A and B (2002 eqs. 4a-b; 1998
-eqs. 3b-c); any other mechanism the derived relation (rows of [B A]
-orthonormal in the weighted coordinates, stated in ``normalisation``). JSON:
+eqs. 3b-c, with the five-bar's own L3, L4); any other mechanism the derived
+relation (rows of [B A] orthonormal in coordinates of one unit, the length,
+stated in ``normalisation``). JSON:
 ``{"source", "mechanism", "relation", "normalisation", "definition", "kappa":
 {"A", "B", "A-1B", "B-1A", "lambda"} (null where undefined or infinite),
 "characteristic_length": {"value", "method", ...}}``.
@@ -20,9 +21,11 @@ working mode (``--mode``, default all) the map of 1/κ, and JSON
 "singular_share", "matrices": {...}}], "grid"}``. ``--out`` writes the figure
 (``.png``, ``.svg``) or the grid values (``.npz``, ``.json``).
 
-``--length auto``: the 3-PRR's closed form √2 r sin γ at γ = π/2 (2002 §3.4);
+``--length auto``: the 3-PRR's √2 r sin γ at its isotropic posture with γ closest to π/2, the largest L
+at which an isotropic posture exists (√2 r where γ = π/2 is reachable; 2002 §3.4);
 for another mechanism with an orientation output, the L minimising κ(J̄) over L
-and the posture (scipy; :func:`classify.characteristic_length.mechanism_optimal_length`),
+and the posture (scipy; :func:`classify.characteristic_length.mechanism_optimal_length`; where κ = 1 is
+reached along a family, its largest L),
 reported with the optimal posture (joint displacements) and the isotropic
 postures found (κ = 1); not needed (null) without an orientation output.
 
@@ -205,7 +208,7 @@ def _single(mechanism, point, entry, length):
 
     if entry == "3-prr":
         radius, leg = _three_prr_design(mechanism)
-        found = _three_prr_length(radius, length)
+        found = _three_prr_length(mechanism, point, length)
         pose, signs = three_prr_pose_of(mechanism, point)
         direct, inverse, _ = three_prr_matrices(pose, signs, radius, _base_radius(mechanism), leg)
         numbers = condition_numbers(direct, inverse, found.value, (2,), scales=(leg, leg),
@@ -260,13 +263,29 @@ def _base_radius(mechanism):
     return float(2 * abs(np.dot(slider, normal)))
 
 
-def _three_prr_length(radius, length):
-    from ..characteristic_length import CharacteristicLength, three_prr_length
+def _three_prr_length(mechanism, point, length):
+    """L of a catalogue 3-PRR: given, or the largest L with an isotropic posture (2002 §3.4,
+    :func:`classify.characteristic_length.three_prr_characteristic_length`: √2 r where γ = π/2 is reachable);
+    where no posture is isotropic, κ(K̄) minimised over L and the posture from the configuration's pose."""
+    import numpy as np
+
+    from ..characteristic_length import (CharacteristicLength, optimal_characteristic_length,
+                                         three_prr_characteristic_length, three_prr_kappa)
+    from ..conditioning_matrices import three_prr_pose_of
 
     if length is not None:
         return CharacteristicLength(length, "given")
-    return CharacteristicLength(float(three_prr_length(radius, math.pi / 2)), "closed_form", None, None,
-                                "Chablat, Caro, Wenger & Angeles 2002 §3.4: L = √2 r sin γ at γ = π/2 (Fig. 4a)")
+    radius, leg = _three_prr_design(mechanism)
+    base = _base_radius(mechanism)
+    found = three_prr_characteristic_length(radius, base, leg)
+    if found is not None:
+        return found
+    pose, signs = three_prr_pose_of(mechanism, point)
+    optimised = optimal_characteristic_length(
+        lambda trial, posture: three_prr_kappa(trial, posture, signs, "B-1A", radius, base, leg),
+        math.sqrt(2.0) * radius, pose, rng=np.random.default_rng(0))
+    return CharacteristicLength(optimised.value, optimised.method, optimised.posture, optimised.kappa,
+                                optimised.reference + "; no isotropic posture exists (eqs. 9a-f): κ > 1")
 
 
 def _maps(arguments, mechanism, point, entry, length):
@@ -287,12 +306,14 @@ def _maps(arguments, mechanism, point, entry, length):
             raise InputError(f"--grid: at most {GRID_LIMIT} points (X × Y × PHI)")
         radius, leg = _three_prr_design(mechanism)
         base = _base_radius(mechanism)
-        found = _three_prr_length(radius, length)
+        found = _three_prr_length(mechanism, point, length)
         modes = _modes(arguments.mode, sorted(WORKING_MODES))
         maps = [three_prr_map(xs, ys, WORKING_MODES[mode], found.value, orientations, mode=str(mode),
                               platform_radius=radius, base_radius=base, leg_length=leg) for mode in modes]
         pose, signs = three_prr_pose_of(mechanism, point)
         starts = [pose, np.array([0.0, 0.0, math.pi / 3]), np.array([0.0, 0.0, -math.pi / 3])]
+        if found.posture is not None:   # the isotropic posture the length came from
+            starts.append(np.array(found.posture, dtype=float))
         isotropic = [{"posture": posture.tolist(), "kappa_minus_one": margin, "signs": signs.astype(int).tolist()}
                      for posture, margin in isotropic_postures(
                          lambda posture: three_prr_kappa(found.value, posture, signs, "B-1A", radius, base, leg),
@@ -302,18 +323,31 @@ def _maps(arguments, mechanism, point, entry, length):
     else:
         if len(xs) * len(ys) > GRID_LIMIT:
             raise InputError(f"--grid: at most {GRID_LIMIT} points (X × Y)")
-        item = mechanism.joint("B").point
-        joints = {name: np.array(mechanism.joint(name).point) for name in "ACP"}
-        proximal = float(np.linalg.norm(joints["C"] - joints["A"]))
-        distal = float(np.linalg.norm(joints["P"] - joints["C"]))
+        design = _five_bar_design(mechanism)
         modes = _modes(arguments.mode, FIVE_BAR_MODES)
         maps = [five_bar_cartesian_map(xs, ys, tuple(1 if sign == "+" else -1 for sign in mode), mode=mode,
-                                       base=float(item[0]), proximal=proximal, distal=distal) for mode in modes]
+                                       **design) for mode in modes]
         found = _not_needed(length, "the five-bar's outputs are positions")
         isotropic = []
         grid = {"x": list(axes["X"]), "y": list(axes["Y"])}
     return ({"relation": "paper", "matrix": arguments.matrix, "characteristic_length": found.to_dict(),
              "isotropic": isotropic, "modes": _mode_entries(maps, arguments.matrix), "grid": grid}, maps)
+
+
+def _five_bar_design(mechanism):
+    """L0 and both legs' lengths L1, L2 (left) and L3, L4 (right) of a catalogue five-bar, read from its home
+    geometry (joints A, C, P, D, B: Chablat, Wenger & Angeles 1998 Fig. 1), as keyword arguments of
+    :func:`classify.isoconditioning.five_bar_cartesian_map`. A named configuration or ``--param`` with unequal
+    legs (e.g. ``fig13_combined``: L3 = 2 L1) is mapped with its own right leg, as ``_single`` does."""
+    import numpy as np
+
+    joints = {name: np.array(mechanism.joint(name).point, dtype=float) for name in "ACPDB"}
+
+    def distance(first, second):
+        return float(np.linalg.norm(joints[first] - joints[second]))
+
+    return {"base": float(joints["B"][0]), "proximal": distance("C", "A"), "distal": distance("P", "C"),
+            "proximal_right": distance("D", "B"), "distal_right": distance("P", "D")}
 
 
 def _mode_entries(maps, matrix):
@@ -425,7 +459,8 @@ def _cartesian_grid(texts, mechanism):
 
 _DERIVED_NORMALISATION = ("A-1B, B-1A: J̄ = H^½ Df T (E^½ Dπ T)⁻¹ (batched); lambda: Park & Kim's λ₁/λₙ "
                           "(the batched classification); A, B (only with --matrix A|B): the derived relation, rows "
-                          "of [B A] orthonormal in the weighted coordinates")
+                          "of [B A] orthonormal in coordinates of one unit, the length (angular actuated rates "
+                          "and output rotations multiplied by L)")
 
 
 def _general_length(mechanism, point, length):

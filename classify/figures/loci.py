@@ -25,7 +25,8 @@
 A 3-dof mechanism's loci drawn by :func:`draw_cspace_map` in three joint
 coordinates are the sections stacked in 3-D axes.
 
-Angles are wrapped to [−π, π); a line is broken where it wraps.
+Angles are wrapped to [−π, π); a line is broken where a wrapped angle jumps by more than π (never where
+a length coordinate does).
 """
 
 from __future__ import annotations
@@ -42,12 +43,37 @@ BRANCH_COLOURS = ("tab:green", "tab:orange", "tab:cyan", "tab:olive", "tab:pink"
 _MODE_COLOURS = {(1, 1): "#c6dbef", (1, -1): "#fdd0a2", (-1, 1): "#c7e9c0", (-1, -1): "#dadaeb"}
 
 
-def _broken(values, mechanism_coordinates):
-    """The line with NaN rows inserted where a wrapped angle jumps by more than π."""
-    if len(values) < 2 or not mechanism_coordinates:
+def _broken(values, angle_columns):
+    """The line with NaN rows inserted where a wrapped angle jumps by more than π.
+
+    Parameters
+    ----------
+    values : ndarray, shape=[p, d]
+        The drawn points.
+    angle_columns : ndarray of bool, shape=[d]
+        The columns that are angles wrapped to [−π, π) (revolute joint coordinates); only they can wrap. A
+        length (a prismatic coordinate, an end-effector position) is never broken, whatever its jumps.
+
+    Returns
+    -------
+    ndarray, shape=[p + breaks, d]
+    """
+    angle_columns = np.asarray(angle_columns, dtype=bool)
+    if len(values) < 2 or not np.any(angle_columns):
         return values
-    jumps = np.flatnonzero(np.any(np.abs(np.diff(values, axis=0)) > np.pi, axis=1))
+    steps = np.abs(np.diff(values[:, angle_columns], axis=0))
+    jumps = np.flatnonzero(np.any(steps > np.pi, axis=1))
     return np.insert(values, jumps + 1, np.nan, axis=0) if jumps.size else values
+
+
+def _angle_columns(mechanism, coordinates):
+    """Which shown columns are wrapped angles: the revolute joint coordinates among `coordinates`; none for
+    the end-effector's coordinates (``coordinates`` a string), which are not wrapped."""
+    from ..loci import _is_angle
+
+    if isinstance(coordinates, str):
+        return np.zeros(0, dtype=bool)
+    return np.array([_is_angle(mechanism, column) for column in coordinates], dtype=bool)
 
 
 def _axes(mechanism, coordinates):
@@ -137,7 +163,7 @@ def draw_loci(mechanism, loci, coordinates, axes=None, title=None):
     """
     from ..loci import locus_coordinates
 
-    joints = not isinstance(coordinates, str)
+    angles = _angle_columns(mechanism, coordinates)
     names = None
     axes = _axes(mechanism, coordinates) if axes is None else axes
     labelled = set()
@@ -158,7 +184,7 @@ def draw_loci(mechanism, loci, coordinates, axes=None, title=None):
             if len(values) == 1:
                 style.update(linestyle="none", marker="o", markersize=8)
 
-            _line(axes, _broken(values, joints), **style)
+            _line(axes, _broken(values, angles), **style)
         labelled.add(piece.kind + (":whole-branch" if piece.whole_branch else ""))
     if names is None:
         _, names = locus_coordinates(mechanism, loci.samples[:1], coordinates) if len(loci.samples) else (None, ())
@@ -183,11 +209,11 @@ def draw_cspace_map(mechanism, loci, coordinates, axes=None, title=None):
     """
     from ..loci import locus_coordinates
 
-    joints = not isinstance(coordinates, str)
+    angles = _angle_columns(mechanism, coordinates)
     axes = _axes(mechanism, coordinates) if axes is None else axes
     for index, branch in enumerate(loci.branches):
         values, _ = locus_coordinates(mechanism, branch.points, coordinates)
-        _line(axes, _broken(values, joints), color=BRANCH_COLOURS[index % len(BRANCH_COLOURS)], linewidth=5,
+        _line(axes, _broken(values, angles), color=BRANCH_COLOURS[index % len(BRANCH_COLOURS)], linewidth=5,
               alpha=0.5, gid=f"branch:{index}", label=f"branch {index + 1}" + (" (closed)" if branch.closed else ""))
     branch_of = loci.sample_branches
     several = branch_of is not None and len(branch_of) and branch_of.max() > 0

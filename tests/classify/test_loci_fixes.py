@@ -186,3 +186,35 @@ def test_branches_coloured_in_the_map(five_bar_branches):
     for index in (0, 1):
         line = next(line for line in axes.get_lines() if line.get_gid() == f"grid-branch:{index}")
         assert len(line.get_xdata()) == np.sum(loci.sample_branches == index)
+
+
+def test_lines_break_only_where_an_angle_wraps_not_where_a_length_jumps():
+    """A line of a C-space map is broken (a NaN row) only where a wrapped angle jumps by more than π.
+
+    Park & Kim 1999 Fig. 3 (slider-crank) in millimetres (crank 200, coupler 100): the slide (a length) moves by
+    more than π between traced points, which must not break the branches; the breaks left are the crank angle's
+    wraps, and there are as many as at unit scale (crank 2, coupler 1), where the slide never jumps by π.
+    """
+    from classify.figures.loci import draw_cspace_map
+    from mechanisms import home
+
+    def branch_lines(scale):
+        mechanism = catalogue_mechanism("slider-crank", crank=2.0 * scale, coupler=1.0 * scale)
+        loci = trace_loci(mechanism, home(mechanism), kinds=("actuator", "end_effector"))
+        columns = [mechanism.coordinate_names.index("crank"), mechanism.coordinate_names.index("slide")]
+        axes = draw_cspace_map(mechanism, loci, columns).axes[0]
+        lines = [line for line in axes.get_lines() if (line.get_gid() or "").startswith("branch:")]
+        return [np.column_stack([line.get_xdata(), line.get_ydata()]).astype(float) for line in lines]
+
+    millimetres, unit = branch_lines(100.0), branch_lines(1.0)
+    assert len(millimetres) == len(unit) == 2
+    slide_jumps = 0
+    for drawn, at_unit in zip(millimetres, unit):
+        breaks = np.flatnonzero(np.isnan(drawn[:, 0]))
+        assert len(breaks) == np.count_nonzero(np.isnan(at_unit[:, 0]))
+        for row in breaks:  # every break sits between two crank angles more than π apart
+            assert abs(drawn[row + 1, 0] - drawn[row - 1, 0]) > np.pi
+        pieces = np.split(drawn, breaks)
+        slide_jumps += sum(np.count_nonzero(np.abs(np.diff(piece[~np.isnan(piece[:, 0]), 1])) > np.pi)
+                           for piece in pieces)
+    assert slide_jumps > 0  # the slide does jump by more than π inside the unbroken pieces
