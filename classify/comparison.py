@@ -23,17 +23,17 @@ from typing import Optional
 
 import numpy as np
 
-from manifold import DEFAULT_RTOL, sample_manifold, tangent_basis
+from manifold import DEFAULT_RTOL, local_rank, numerical_rank, sample_manifold, tangent_basis
 from mechanisms import Mechanism
 
 from .classification import classify
 from .gosselin_angeles import GA_KINDS, derived_gosselin_angeles, gosselin_angeles
 from .model import model_of
 from .report import format_values, printable, source_lines
-from .survey import survey as survey_model
+from .survey import decision_blocks, survey as survey_model
 
 __all__ = ["REASONS", "expected_kinds", "correspondence", "ComparisonRow", "Comparison", "comparison_row", "compare",
-           "sample_configurations"]
+           "sample_configurations", "relation_variables_mismatch"]
 
 #: the closed list of reasons for a disagreement (or an undefined G–A classification)
 REASONS = {
@@ -51,7 +51,8 @@ REASONS = {
     "not_differentiable": "the given F is not differentiable here (A or B is not finite): a branch point "
                           "of its ± roots",
     "degenerate_relation": "the given F has a degenerate differential ([B A] of rank below n) where the "
-                           "C-space is smooth: squared or factored terms make det A = det B = 0 spuriously",
+                           "C-space is smooth: det A = det B = 0 comes from how F is written (squared or "
+                           "factored terms), not from a singularity of the C-space",
     "inconsistent_relation": "the given F does not describe this configuration: [B A] does not annihilate "
                              "the mechanism's velocities (another branch, or another mechanism)",
     "numerical_margin": "the two rank decisions differ only within a factor 100 of the cut",
@@ -59,6 +60,9 @@ REASONS = {
 
 #: the relative defect ‖[B A] v‖ / ‖v‖ above which a given F does not describe the mechanism
 CONSISTENCY_TOLERANCE = 1e-4
+#: a relation's variable θ stands still where ‖Dθ T‖ ≤ STILL · max(1, ‖θ‖): central differences of step 1e-6
+#: round to about 1e-10 ‖θ‖ (:func:`relation_variables_mismatch`)
+STILL = 1e-8
 
 
 def expected_kinds(report):
@@ -285,6 +289,71 @@ def _consistent(result, velocities):
     rows = rows / np.linalg.norm(rows, axis=1, keepdims=True)
     size = max(float(np.linalg.norm(velocities, 2)), 1e-300)
     return float(np.linalg.norm(rows @ velocities, 2)) <= CONSISTENCY_TOLERANCE * size
+
+
+def relation_variables_mismatch(model, point, coordinates, rtol=DEFAULT_RTOL, count=3, radius=1e-2):
+    """Which of a given relation's variables are not the model's near `point`: ``"inputs"``, ``"outputs"`` or None.
+
+    G–A's θ must be the model's inputs (its actuated coordinates π) and x its
+    outputs (its end-effector f), up to a change of coordinates: then
+    ``dθ = K dπ`` on M, so the rows of ``Dθ T`` lie in the row space of
+    ``Dπ T`` at every point, singular or not (and likewise ``Dx T`` in that
+    of ``Df T``). A relation written for other inputs (the slider-crank's
+    crank angle, with the slide driven) fails this wherever θ moves while π
+    stands still. The test is made at `point` (unless it is a C-space
+    singularity, where ker DΦ is larger than the tangent spaces) and at
+    `count` points of M about `radius` away (:func:`manifold.local_rank`):
+    ``Dθ T`` by central differences of `coordinates`, the row space of the
+    model's decision rows (:func:`classify.survey.decision_blocks`, rank
+    decided with `rtol`); a mismatch is a part of ``Dθ T`` outside that row
+    space above :data:`CONSISTENCY_TOLERANCE` times the largest ``‖Dθ T‖``
+    over the points. θ stands still at a point where ``‖Dθ T‖`` is below
+    that, or below :data:`STILL` · max(1, ‖θ‖) (the rounding of the
+    differences, about 1e-10 ‖θ‖): nothing is tested there.
+    The test is one-way: on a mechanism of one degree of freedom any two
+    outputs move together wherever both move, so a wrong output is caught
+    only where the model's stands still and the relation's does not.
+
+    Parameters
+    ----------
+    model : Model
+    point : ndarray, shape=[point_size]
+    coordinates : callable
+        ``coordinates(point) -> (theta, x)``.
+    rtol : float
+    count : int
+    radius : float
+
+    Returns
+    -------
+    str or None
+    """
+    near = local_rank(model.manifold, point, np.random.default_rng(0), count=count, radius=radius, rtol=rtol)
+    points = list(near.neighbours)
+    if tangent_basis(model.manifold, point, rtol=rtol)[0].shape[1] == near.dimension:
+        points.append(point)
+    theta = np.ravel(coordinates(point)[0]).size
+    checks = []
+    for at in points:
+        basis = tangent_basis(model.manifold, at, rtol=rtol)[0]
+        velocities = _relation_velocities(model, at, basis, coordinates)
+        values = [np.ravel(value) for value in coordinates(at)]
+        floors = [STILL * max(1.0, float(np.linalg.norm(value))) for value in values]
+        actuator, actuator_scale, end_effector, end_effector_scale = decision_blocks(model, at, basis)
+        checks.append(((velocities[:theta], floors[0], actuator, actuator_scale),
+                       (velocities[theta:], floors[1], end_effector, end_effector_scale)))
+    for which, name in enumerate(("inputs", "outputs")):
+        largest = max((float(np.linalg.norm(check[which][0], 2)) for check in checks if check[which][0].size),
+                      default=0.0)
+        for rows, floor, block, scale in (check[which] for check in checks):
+            if not rows.size or float(np.linalg.norm(rows, 2)) <= max(CONSISTENCY_TOLERANCE * largest, floor):
+                continue
+            if block is None:
+                return name
+            span = np.linalg.svd(block, full_matrices=False)[2][:numerical_rank(block, rtol=rtol, scale=scale).rank]
+            if float(np.linalg.norm(rows - rows @ span.T @ span, 2)) > CONSISTENCY_TOLERANCE * largest:
+                return name
+    return None
 
 
 def comparison_row(model, point, report, label="", relation=None, coordinates=None, rtol=DEFAULT_RTOL):

@@ -16,7 +16,7 @@ import numpy as np
 
 from manifold import ImplicitManifold
 from mechanisms import (
-    actuate, configuration_space, end_effector_dimension, end_effector_jacobian, home, to_displacements,
+    checked_joint_names, configuration_space, end_effector_dimension, end_effector_jacobian, home, to_displacements,
 )
 
 from mechanisms.joints import joint_coordinate_names
@@ -144,8 +144,7 @@ def joint_output_model(mechanism, joint_names, where="outputs"):
     -------
     Model
     """
-    joint_names = list(joint_names)
-    actuate(mechanism, joint_names, where=where)  # validates the names
+    joint_names = checked_joint_names(mechanism, joint_names, where)
     outputs = [name for joint in joint_names for name in joint_coordinate_names(mechanism.joint(joint))]
     selection = np.eye(mechanism.ambient_dimension)[[mechanism.coordinate_names.index(name) for name in outputs]]
     base = model_of(mechanism)

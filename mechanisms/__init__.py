@@ -13,7 +13,7 @@ from manifold._lazy import attach
 
 #: exported name → the submodule that defines it (imported when the name is first used)
 _SOURCES = {
-    "actuate": ".actuation",
+    "actuate": ".actuation", "checked_joint_names": ".actuation",
     **dict.fromkeys(("ASSEMBLY_METHODS", "Assembly", "AssemblyError", "assemble", "assemblies"), ".assembly"),
     **dict.fromkeys(("CLOSURE_TOLERANCE", "Projected", "configuration", "from_displacements", "home",
                      "to_displacements", "validate_displacements"), ".configuration"),

@@ -7,7 +7,7 @@ from dataclasses import replace
 from .errors import MechanismError
 from .mechanism import Mechanism
 
-__all__ = ["actuate"]
+__all__ = ["actuate", "checked_joint_names"]
 
 
 def actuate(mechanism, joint_names, where="inputs"):
@@ -40,6 +40,21 @@ def actuate(mechanism, joint_names, where="inputs"):
     >>> [joint.name for joint in driven.joints if joint.actuated]
     ['slide']
     """
+    names = checked_joint_names(mechanism, joint_names, where)
+    joints = [joint if joint.actuated == (joint.name in names)
+              else replace(joint, actuated=joint.name in names, weight=1.0)
+              for joint in mechanism.joints]
+    return Mechanism(mechanism.name, mechanism.space, joints, mechanism.ground, mechanism.end_effector)
+
+
+def checked_joint_names(mechanism, joint_names, where):
+    """The names as a list, each a joint of `mechanism` named once (at least one).
+
+    Raises
+    ------
+    MechanismError
+        Naming `where` and the joint, for an unknown or repeated name or an empty list.
+    """
     names = list(joint_names)
     known = [joint.name for joint in mechanism.joints]
     if not names:
@@ -49,7 +64,4 @@ def actuate(mechanism, joint_names, where="inputs"):
             raise MechanismError(f"{where}: no joint {name!r} in {mechanism.name!r} (joints: {', '.join(known)})")
         if names.count(name) > 1:
             raise MechanismError(f"{where}: joint {name!r} is named twice")
-    joints = [joint if joint.actuated == (joint.name in names)
-              else replace(joint, actuated=joint.name in names, weight=1.0)
-              for joint in mechanism.joints]
-    return Mechanism(mechanism.name, mechanism.space, joints, mechanism.ground, mechanism.end_effector)
+    return names

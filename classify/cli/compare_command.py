@@ -66,12 +66,32 @@ def _paper_relation(arguments, mechanism, point):
         raise InputError(f"--relation: {arguments.relation} does not apply here: {error}") from None
 
 
+def _check_relation_variables(arguments, mechanism, model, start, coordinates):
+    """Refuse a paper's relation whose inputs θ are not the mechanism's actuated coordinates, or whose outputs x
+    are not the compared outputs, near the start (:func:`classify.comparison.relation_variables_mismatch`):
+    every row would compare two different input-output problems."""
+    from ..comparison import relation_variables_mismatch
+
+    mismatch = relation_variables_mismatch(model, start, coordinates)
+    if mismatch == "inputs":
+        actuated = ", ".join(printable(mechanism.coordinate_names[index]) for index in mechanism.actuated_coordinates)
+        raise InputError(f"--relation: {arguments.relation}'s inputs are the paper's, not the actuated coordinates "
+                         f"here ({actuated}); compare without --relation (the derived Gosselin–Angeles matrices "
+                         f"follow the actuation)")
+    if mismatch == "outputs":
+        raise InputError(f"--outputs: {arguments.relation}'s outputs are the paper's, not the outputs compared "
+                         f"here; name the paper's outputs or compare without --relation")
+
+
 def _path_rows(model, start, count, step, start_label="home"):
     """Labels and points along a path of M through `start` (labelled `start_label`), with the singularities it
     crosses in place."""
     from ..paths import path_configurations, singular_crossings
 
     path, steps = path_configurations(model, start, count, step=step)
+    if len(path) == 1:
+        print(f"--path: M could not be continued from {printable(start_label)} (as at a C-space singularity, "
+              f"where no single curve leaves it): the path is the start alone", file=sys.stderr)
     crossings = {}
     for index, point, kind in singular_crossings(model, path):
         crossings.setdefault(index, []).append((point, kind))
@@ -136,7 +156,8 @@ def run(arguments, out):
     points += list(samples)
     relation = coordinates = None
     if arguments.relation is not None:
-        relation, coordinates = _paper_relation(arguments, mechanism, points[0])
+        relation, coordinates = _paper_relation(arguments, mechanism, start)  # the branch sign of the start
+        _check_relation_variables(arguments, mechanism, model, start, coordinates)
     print(f"comparing {len(points)} configurations of {printable(mechanism.name)}", file=sys.stderr)
     result = compare(model, np.stack(points), labels, relation=relation, coordinates=coordinates, rng=rng,
                      output_names=output_names)

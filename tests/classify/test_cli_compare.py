@@ -71,6 +71,22 @@ def test_compare_with_the_papers_relation(capsys):
     assert row["agree"] is True and row["gosselin_angeles"]["kinds"] == ["II"]
 
 
+def test_the_branch_sign_of_a_relation_is_the_starts_along_a_path_too(capsys):
+    """Eq. 9's ± (Gosselin & Angeles 1990) is taken at the start, not at the path's first point: from θ = 0.4
+    back along the path the other branch of eq. 9 made the start and most rows 'inconsistent_relation'."""
+    arguments = ["compare", "slider-crank", "--param", "theta=0.4", "--outputs", "slide", "--relation", "eq9",
+                 "--format", "json"]
+    status, out, err = run(arguments, capsys)
+    assert status == 0, err
+    alone = json.loads(out)
+    status, out, err = run(arguments + ["--path", "10", "--path-step", "0.2"], capsys)
+    assert status == 0, err
+    along = json.loads(out)
+    assert along["gosselin_angeles_source"] == alone["gosselin_angeles_source"] == "eq9[+]"
+    home = next(row for row in along["configurations"] if row["configuration"] == "home")
+    assert home["agree"], home
+
+
 @pytest.mark.parametrize("arguments, fragment", [
     (["compare", "five-bar", "--relation", "eq9"], "--relation: no relation 'eq9' for 'five-bar'"),
     (["compare", "five-bar", "--inputs", "A,Z"], "--inputs: no joint 'Z'"),
@@ -84,6 +100,11 @@ def test_compare_with_the_papers_relation(capsys):
     (["compare", "slider-crank", "--relation", "eq9", "--inputs", "slide", "--outputs", "pin"],
      "--inputs: a --relation has the paper's inputs"),
     (["compare", "slider-crank", "--path-step", "0.1"], "--path-step: applies to a --path"),
+    # the paper's relation has the crank as input: with the slide driven every row compared two problems
+    (["compare", "slider-crank", "--configuration", "fig3d_dead_centre", "--relation", "eq9"],
+     "--relation: eq9's inputs are the paper's, not the actuated coordinates here (slide)"),
+    (["compare", "slider-crank", "--configuration", "eq17_constant_branch_slider_driven", "--relation", "eq12"],
+     "--relation: eq12's inputs are the paper's"),
     (["compare", "slider-crank", "--param", "crank=3", "--param", "crank=4"], "--param crank: given twice"),
 ])
 def test_compare_input_errors_exit_2_with_one_line(arguments, fragment, capsys):
@@ -119,3 +140,23 @@ def test_compare_of_a_catalogue_entry_names_its_parameters(capsys):
     labels = [row["configuration"] for row in result["configurations"]]
     assert "fig3c_dead_centre" in labels and "home" not in labels and not any(label.startswith("sample")
                                                                               for label in labels)
+
+
+def test_ball_joints_may_be_outputs(capsys):
+    """Outputs are joint coordinates (Gosselin & Angeles 1990, Section II), a ball joint's three included: they
+    were checked as if actuated, and refused with 'an S joint cannot be actuated'."""
+    status, out, err = run(["compare", "gough-stewart", "--outputs", "S1,S2", "--format", "json"], capsys)
+    assert status == 0, err
+    result = json.loads(out)
+    assert result["outputs"] == ["S1[x]", "S1[y]", "S1[z]", "S2[x]", "S2[y]", "S2[z]"]
+    assert result["configurations"][0]["gosselin_angeles"]["n"] == 6
+
+
+def test_a_path_that_cannot_leave_its_start_is_said_to(capsys):
+    """At a C-space singularity (the five-bar's legs collinear, Chablat, Wenger & Angeles 1998 Fig. 1a) M is
+    not continued: the path was the start alone, without a word."""
+    status, out, err = run(["compare", "five-bar", "--configuration", "fig1a_collinear", "--path", "5",
+                            "--format", "json"], capsys)
+    assert status == 0, err
+    assert len(json.loads(out)["configurations"]) == 1
+    assert "--path: M could not be continued from fig1a_collinear" in err
