@@ -94,7 +94,13 @@ def joint_places(mechanism, points):
 def _end_effector_place(mechanism, points):
     """The end-effector point (or, on the sphere, the image of its link's first joint axis): [n, d] or None."""
     end_effector = mechanism.end_effector
-    if end_effector is None or mechanism.space == "spherical" or end_effector.point is None:
+    if end_effector is None:
+        return None
+    if mechanism.space == "spherical":
+        axis = next((joint.axis for joint in mechanism.joints if end_effector.link in joint.links), None)
+        return None if axis is None else _carry(mechanism, end_effector.link,
+                                                np.asarray(axis, dtype=float) / np.linalg.norm(axis), points)
+    if end_effector.point is None:
         return None
     home = np.append(np.asarray(end_effector.point, dtype=float), 1.0)
     return _carry(mechanism, end_effector.link, home, points)

@@ -79,3 +79,19 @@ def test_saved_without_display(tmp_path, suffix):
     _, _, _, figure = _drawn("planar-3rrr", "eq58_leg_stretched")
     save_figure(figure, tmp_path / f"figure.{suffix}")
     assert (tmp_path / f"figure.{suffix}").stat().st_size > 1000
+
+
+def test_the_spherical_3rrrs_gripper_is_drawn_at_its_first_joints_axis_on_the_sphere():
+    """On the sphere the end-effector is the image of its link's first joint axis (the module's convention);
+    for a spherical mechanism nothing was drawn."""
+    from mechanisms import link_pose
+
+    mechanism, point, _, figure = _drawn("spherical-3rrr")
+    artists = [artist for artist in figure.axes[0].get_children() if artist.get_gid() == "end-effector"]
+    assert len(artists) == 1
+    link = mechanism.end_effector.link
+    axis = np.asarray(next(joint.axis for joint in mechanism.joints if link in joint.links), dtype=float)
+    expected = link_pose(mechanism, link, point) @ (axis / np.linalg.norm(axis))
+    drawn = np.array(artists[0].get_data_3d()).ravel()
+    np.testing.assert_allclose(drawn, expected, atol=1e-12)
+    assert abs(np.linalg.norm(drawn) - 1.0) < 1e-12
