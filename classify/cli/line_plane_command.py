@@ -24,8 +24,10 @@ design all Cⱼ vanish: ``cofactors``, ``B``, ``B_inf``, ``Lambda_plus`` and
 ``assembly_modes`` (the polynomial route, real ones first, each with its
 residual and multiplicity: coincident modes, at the leg lengths of a singular
 configuration, are listed once), ``real_modes`` (distinct real poses) and,
-with ``--framework``, the modes found by the closedchain mechanism route and
-whether the two agree;
+with ``--framework``, the modes found by the closedchain mechanism route (a
+search from random starts that stops once it has found as many as the
+polynomial route, or at least one: with no real mode it tries every start)
+and whether the two agree;
 with ``--move-base I:T`` (leg I moved by T along its B-line) or
 ``--move-platform I:Z`` (leg I's platform attachment moved to Z, allowed iff
 its base attachment is at B), ``rearranged``: the new design and its
@@ -211,7 +213,9 @@ def _modes(design, arguments, result):
     result["assembly_modes"] = [mode.to_dict() for mode in modes]
     result["real_modes"] = sum(mode.real for mode in modes)
     if arguments.framework:
-        found = framework_assembly_modes(design, lengths, expected=result["real_modes"])
+        # the search stops once it has found as many modes as the polynomial route; with none, it searches every
+        # start (it must look for one to confirm there is none)
+        found = framework_assembly_modes(design, lengths, expected=max(1, result["real_modes"]))
         result["framework_modes"] = [mode.to_dict() for mode in found]
         result["routes_agree"] = same_modes(modes, found, design.characteristic_length)
 

@@ -251,3 +251,19 @@ def test_the_margin_of_a_cubic_design_is_the_b_margin_that_decided_it():
     design = line_plane_design(np.column_stack([-(c1 * z + c6) / (c4 * z + c2), rng.normal(size=5)]), z)
     result = family(design)
     assert result.name == "cubic" and result.margin == result.b_margin and result.margin < 1e-12
+
+
+def test_framework_route_searches_when_the_polynomial_route_finds_no_real_mode(monkeypatch, capsys):
+    """With no real mode the cross-check asked the search for none, assembled nothing and said 'agrees'."""
+    import classify.line_plane_kinematics as kinematics
+
+    calls = []
+    original = kinematics._assemble_from
+    monkeypatch.setattr(kinematics, "_assemble_from", lambda *arguments: (calls.append(1), original(*arguments))[1])
+    base = " ".join(f"{x},{y}" for x, y in QUARTIC_BASE)
+    status, out, err = run(["line-plane", "--base", base, "--platform", " ".join(map(str, QUARTIC_PLATFORM)),
+                            "--legs", "10,10,10,10,10", "--framework", "--format", "json"], capsys)
+    assert status == 0, err
+    result = json.loads(out)
+    assert result["real_modes"] == 0 and result["framework_modes"] == [] and result["routes_agree"]
+    assert len(calls) >= 24
