@@ -1,5 +1,5 @@
 """``closedchain line-plane [FILE|NAME] [--base "x1,y1 x2,y2 …" --platform "z1 … z5"] [--legs l1,…,l5]
-[--move-base I:T] [--move-platform I:Z] [--framework] [--format json|text]``: the invariants of a line-plane
+[--move-base I:T] [--move-platform I:Z] [--framework] [--rtol R] [--format json|text]``: the invariants of a line-plane
 5-SPU (Borràs, Thomas & Torras 2011).
 
 The design comes from ``--base`` and ``--platform`` (five base attachments
@@ -38,7 +38,7 @@ with status 2 and one line naming the option.
 
 from __future__ import annotations
 
-from ._common import InputError, dumps, entry_options, is_entry, source
+from ._common import InputError, dumps, entry_options, is_entry, number, source
 
 __all__ = ["add_parser", "run", "parse_base", "parse_numbers", "parse_move"]
 
@@ -62,6 +62,9 @@ def add_parser(commands):
                         help="move base attachment I (1-5) by T along its B-line (singularity-invariant)")
     parser.add_argument("--move-platform", default=None, metavar="I:Z",
                         help="move platform attachment I (1-5) to Z (allowed iff base attachment I is at B)")
+    parser.add_argument("--rtol", type=number, default=None, metavar="R",
+                        help="relative cut of the family decisions (default 1e-8): a design read from a file "
+                             "rounded to d significant digits needs about 10^(1-d)")
     parser.add_argument("--format", choices=("json", "text"), default="text")
     return parser
 
@@ -145,23 +148,23 @@ def _design(arguments):
     base = parse_base(arguments.base)
     platform = parse_numbers(arguments.platform, "--platform")
     try:
-        return line_plane_design(base, platform), None
+        return line_plane_design(base, platform, rtol=arguments.rtol), None
     except DesignError as error:
         raise InputError(f"--{error.field}: {str(error).split(': ', 1)[-1]}") from None
 
 
-def _invariants(design):
-    """The JSON-ready invariants of a design."""
+def _invariants(design, rtol):
+    """The JSON-ready invariants of a design, its family decided with `rtol`."""
     import numpy as np
 
     from ..line_plane import b_infinity, b_line, b_point, cofactors, family, lambda_plus
 
-    kind = family(design)
+    kind = family(design, rtol)
     values = cofactors(design)
     scale = float(np.max(np.abs(values)))
-    point = b_point(design)
-    line = b_infinity(design)
-    plus = lambda_plus(design)
+    point = b_point(design, rtol)
+    line = b_infinity(design, rtol)
+    plus = lambda_plus(design, rtol)
     undefined = kind.name == "architecturally singular"
     lines = None if undefined else []
     for row in () if undefined else b_line(design, design.platform):
@@ -187,10 +190,10 @@ def _rearranged(design, arguments):
     try:
         if arguments.move_base is not None:
             index, distance = parse_move(arguments.move_base, "--move-base")
-            moved = move_base(design, index, distance)
+            moved = move_base(design, index, distance, rtol=arguments.rtol)
             return moved, {"move": {"rule": "base along its B-line", "leg": index + 1, "distance": distance}}
         index, z = parse_move(arguments.move_platform, "--move-platform")
-        moved = move_platform(design, index, z)
+        moved = move_platform(design, index, z, rtol=arguments.rtol)
         return moved, {"move": {"rule": "platform attachment of a leg at B", "leg": index + 1, "z": z}}
     except RearrangementError as error:
         option = "--move-base" if arguments.move_base is not None else "--move-platform"
@@ -203,7 +206,7 @@ def _modes(design, arguments, result):
 
     lengths = parse_numbers(arguments.legs, "--legs")
     try:
-        modes = assembly_modes(design, lengths)
+        modes = assembly_modes(design, lengths, rtol=arguments.rtol)
     except DesignError as error:
         if error.field == "legs":
             raise InputError(f"--legs: {str(error).split(': ', 1)[-1]}") from None
@@ -225,8 +228,14 @@ def run(arguments, out):
         raise InputError("--move-base, --move-platform: give one move at a time")
     if arguments.framework and arguments.legs is None:
         raise InputError("--framework: needs --legs")
+    if arguments.rtol is None:
+        from ..line_plane import FAMILY_RTOL
+
+        arguments.rtol = FAMILY_RTOL
+    if not 0 < arguments.rtol < 1:
+        raise InputError(f"--rtol: expected a number between 0 and 1, got {arguments.rtol:g}")
     design, pose = _design(arguments)
-    result = _invariants(design)
+    result = _invariants(design, arguments.rtol)
     if pose is not None:
         from ..line_plane import singularity_reading
 
@@ -241,7 +250,7 @@ def run(arguments, out):
         _modes(design, arguments, result)
     if arguments.move_base is not None or arguments.move_platform is not None:
         moved, move = _rearranged(design, arguments)
-        result["rearranged"] = {**move, **_invariants(moved)}
+        result["rearranged"] = {**move, **_invariants(moved, arguments.rtol)}
     out.write((dumps(result) if arguments.format == "json" else _text(result)) + "\n")
     return 0
 

@@ -175,8 +175,8 @@ def catalogue_file(tmp_path, capsys):
     return path
 
 
-def _line_plane_json(path, capsys):
-    status, out, err = run(["line-plane", str(path), "--format", "json"], capsys)
+def _line_plane_json(path, capsys, *options):
+    status, out, err = run(["line-plane", str(path), *options, "--format", "json"], capsys)
     assert status == 0, err
     return json.loads(out)
 
@@ -191,6 +191,21 @@ def test_a_file_written_to_six_significant_digits_is_accepted(catalogue_file, tm
     assert np.allclose(result["design"]["platform"], reference["design"]["platform"], atol=1e-5)
     assert np.allclose(result["pose"]["i"], reference["pose"]["i"], atol=1e-5)
     assert result["singularity"]["singular"] is False
+
+
+def test_the_family_of_a_rounded_file_is_decided_with_the_rtol_given(catalogue_file, tmp_path, capsys):
+    """The catalogue's design is quadratic (B∞ at infinity, Section IV-C); written to six digits its margins are
+    ~1e-6, above the default cut 1e-8 (quartic), below the --rtol 1e-5 a six-digit file calls for."""
+    rounded = tmp_path / "rounded.yaml"
+    rounded.write_text(re.sub(r"-?\d+\.\d+(e-?\d+)?", lambda match: f"{float(match.group(0)):.6g}",
+                              catalogue_file.read_text()))
+    assert _line_plane_json(catalogue_file, capsys)["family"] == "quadratic"
+    assert _line_plane_json(rounded, capsys)["family"] == "quartic"
+    loose = _line_plane_json(rounded, capsys, "--rtol", "1e-5")
+    assert (loose["family"], loose["rtol"], loose["B_inf"]) == ("quadratic", 1e-5, None)
+    for bad in ("0", "1", "-1e-5"):
+        status, out, err = run(["line-plane", str(rounded), "--rtol", bad], capsys)
+        assert status == 2 and err.count("\n") == 1 and "--rtol" in err and not out
 
 
 @pytest.mark.parametrize("tilt", [0.0, 0.4])
