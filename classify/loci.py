@@ -527,7 +527,7 @@ def _search_zeros(model, value, gradient, seeds, step):
     for seed in np.atleast_2d(seeds):
         try:
             on = project(curve, seed, tolerance=CSPACE_TOLERANCE, max_iterations=CSPACE_ITERATIONS,
-                         max_step=4 * step * ambient.tangent_scales.max())
+                         max_step=4 * step)
             on = project(model.manifold, on, tolerance=TOLERANCE)  # Φ to the loci's tolerance (a move ≪ 1e-8)
         except ProjectionError:
             continue
@@ -577,7 +577,7 @@ def _walk(curve, start, direction, step):
         corrected = None
         while size >= step / 16:
             guess = ambient.retract(current, size * scales * direction)
-            corrected = _correct(curve, guess, max_step=size * scales.max())
+            corrected = _correct(curve, guess, max_step=size)
             if corrected is not None:
                 secant = ambient.inverse_retract(current, corrected) / scales
                 advance = np.linalg.norm(secant)
@@ -619,7 +619,7 @@ def _trace_from_seeds(curve, seeds, step):
     ambient = curve.ambient
     traced = []
     for seed in seeds:
-        on = _correct(curve, seed, max_step=4 * step * ambient.tangent_scales.max())
+        on = _correct(curve, seed, max_step=4 * step)
         if on is None:
             continue
         if any(_distances(ambient, on[None], points)[0] < 2 * step for points, _ in traced):
@@ -805,7 +805,7 @@ def trace_loci(mechanism, start, columns=None, ranges=None, counts=(24, 24), kin
                     pieces += found
             found_points = []
             for candidate in candidates:
-                on = _correct(curve, candidate, max_step=4 * step * ambient.tangent_scales.max())
+                on = _correct(curve, candidate, max_step=4 * step)
                 if on is not None and not (found_points and _distances(ambient, on[None],
                                                                        np.array(found_points))[0] < 1e-6):
                     found_points.append(on)

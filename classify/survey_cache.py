@@ -30,7 +30,9 @@ _FORMAT = "closedchain-survey"
 #: 2: the survey's random points of K are projected onto the closing map first (version 1's surveys of
 #: spatial and spherical mechanisms had the walk from home as their only samples, every random start ending at
 #: a half-turn); 3: that projection is damped (Levenberg-Marquardt: random starts where Gauss-Newton stalled
-#: far from M now reach it, and are samples). A file of an earlier version is refused, not reused
+#: far from M now reach it, and are samples), and every step is capped in dimensionless units (the caps added
+#: radians and lengths, so the samples changed with the unit of length). A file of an earlier version is
+#: refused, not reused
 _VERSION = 3
 #: largest survey cache file read (bytes)
 _LARGEST_FILE = 1 << 20

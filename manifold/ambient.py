@@ -134,6 +134,10 @@ class AmbientSpace:
             raise ValueError(
                 f"Expected {len(factors)} scales, one per factor, got {len(scales)}"
             )
+        for index, scale in enumerate(scales):
+            if not (np.isfinite(scale) and scale > 0):  # a zero scale erases its coordinates from every decision
+                raise ValueError(f"Expected every scale to be a finite positive number, got {scale!r} "
+                                 f"(factor {index})")
         point_slices, tangent_slices = [], []
         point_start = tangent_start = 0
         for factor in factors:

@@ -343,9 +343,10 @@ def apply_pseudo_inverse(inverse, right_hand_side):
     return solution.reshape((inverse.shape[1],) + trailing)
 
 
-def cap_block_steps(pattern, step, max_step):
-    """Scale, in place, each block's part of `step` (shape=[k]) down to norm at most `max_step`."""
+def cap_block_steps(pattern, step, max_step, scales):
+    """Scale, in place, each block's part of `step` (shape=[k]) down to dimensionless norm ‖step/s‖ at most
+    `max_step` (`scales`: s, shape=[k])."""
     for group in pattern.blocks:
-        norms = np.linalg.norm(step[group.columns], axis=-1)                      # [b]
+        norms = np.linalg.norm(step[group.columns] / scales[group.columns], axis=-1)  # [b]
         factors = np.minimum(1.0, max_step / np.maximum(norms, np.finfo(float).tiny))
         step[group.columns] *= factors[:, None]

@@ -2,9 +2,13 @@
 
 From a point p̄ and a direction d, a predictor-corrector walk follows
 the solution set of Φ = 0: predict ``q ⊕ h·d``, correct by Gauss-Newton, take
-the secant as the next direction. A curve that reaches distance ≥ `length`
-from p̄ with every corrector converged is a certificate that p̄ is not
-isolated in that direction.
+the secant as the next direction. A step is kept only where the midpoint of
+its secant is within :data:`MIDPOINT_FRACTION` of its length from M (on a
+curve of curvature κ it is κh²/8 away; a corrector that jumped to another
+branch of M, a line passing near an isolated point, leaves it about as far
+as the jump). A curve that reaches distance ≥ `length` from p̄ with every
+corrector converged and every midpoint near M is a certificate that p̄ is
+not isolated in that direction.
 """
 
 from __future__ import annotations
@@ -16,7 +20,12 @@ import numpy as np
 from .errors import ProjectionError
 from .implicit import project
 
-__all__ = ["CurveCertificate", "continue_curve"]
+__all__ = ["CurveCertificate", "continue_curve", "MIDPOINT_FRACTION"]
+
+#: largest distance from M (dimensionless) of a step's secant midpoint, as a fraction of the step's length:
+#: 1/10 allows curvature up to 0.8/h (a circle of radius 1.25 h), and refuses a jump to another branch
+#: farther than about h/10
+MIDPOINT_FRACTION = 0.1
 
 
 @dataclass(frozen=True, eq=False)
@@ -81,7 +90,7 @@ def continue_curve(manifold, point, direction, length=0.1, step=0.01, tolerance=
     for _ in range(max_steps):
         guess = ambient.retract(current, step * scales * direction)
         try:
-            corrected = project(manifold, guess, tolerance=tolerance, max_step=step * scales.max())
+            corrected = project(manifold, guess, tolerance=tolerance, max_step=step)
         except ProjectionError:
             break
         secant = ambient.inverse_retract(current, corrected) / scales
@@ -89,7 +98,7 @@ def continue_curve(manifold, point, direction, length=0.1, step=0.01, tolerance=
         if advance < 0.25 * step or advance > 2.0 * step:
             break
         new_distance = float(np.linalg.norm(ambient.inverse_retract(start, corrected) / scales))
-        if new_distance <= distance:
+        if new_distance <= distance or not _joined(manifold, current, secant, advance, tolerance, step):
             break
         points.append(corrected)
         largest = max(largest, float(np.linalg.norm(manifold.constraint(corrected))))
@@ -99,3 +108,16 @@ def continue_curve(manifold, point, direction, length=0.1, step=0.01, tolerance=
         if distance >= length:
             break
     return CurveCertificate(distance >= length, distance, np.array(points), largest, initial)
+
+
+def _joined(manifold, current, secant, advance, tolerance, step):
+    """Whether the midpoint ``current ⊕ ½ secant`` (dimensionless secant) projects onto M within
+    :data:`MIDPOINT_FRACTION` · `advance` of itself: a curve of M joins the two points."""
+    ambient = manifold.ambient
+    scales = ambient.tangent_scales
+    middle = ambient.retract(current, 0.5 * secant * scales)
+    try:
+        on = project(manifold, middle, tolerance=tolerance, max_step=step)
+    except ProjectionError:
+        return False
+    return float(np.linalg.norm(ambient.inverse_retract(middle, on) / scales)) <= MIDPOINT_FRACTION * advance

@@ -72,10 +72,11 @@ CHUNK_ENTRIES = 2 ** 20
 #: a projection handled block by block stops when the residual fell by less than 1% over this many iterations
 STALL_WINDOW = 10
 #: damping of a damped projection's first step, and its bounds, relative to σ₁² of DΦ·diag(s): the
-#: Levenberg-Marquardt step ``−(JᵀJ + μ σ₁² I)⁻¹ Jᵀ Φ``; μ shrinks 3× after a step that lowers ‖Φ‖ and
+#: Levenberg-Marquardt step ``−(JᵀJ + μ σ₁² I)⁻¹ Jᵀ Φ``; μ shrinks 10× after a step that lowers ‖Φ‖ and
 #: grows 4× after one that does not, and the search gives up past the largest (a critical point of ‖Φ‖²
-#: that is no zero)
-DAMPING_START, DAMPING_SMALLEST, DAMPING_LARGEST = 1e-3, 1e-12, 1e8
+#: that is no zero). The smallest, STEP_RCOND², leaves the step Gauss-Newton's along every singular value
+#: above Gauss-Newton's own cut (σ ≥ STEP_RCOND σ₁), so a well-posed but ill-conditioned map converges
+DAMPING_START, DAMPING_SMALLEST, DAMPING_LARGEST = 1e-3, STEP_RCOND ** 2, 1e8
 
 
 @dataclass(frozen=True, eq=False)
@@ -231,8 +232,9 @@ def project(manifold, point, tolerance=1e-12, max_iterations=60, max_step=None, 
         Stop when ``|Φ(p)| ≤ tolerance``.
     max_iterations : int
     max_step : float, optional
-        Largest allowed norm of one step (a capped iteration); default
-        unlimited. For a manifold handled block by block, the largest norm
+        Largest allowed dimensionless norm ``‖step / s‖`` of one step (a
+        capped iteration: radians and lengths over their scale, so that the
+        cap does not depend on the unit of length); default unlimited. For a manifold handled block by block, the largest norm
         of each block's part of the step: the blocks are independent
         problems, and one cap on the whole step would slow each block down
         by the number of the others.
@@ -266,8 +268,9 @@ def project(manifold, point, tolerance=1e-12, max_iterations=60, max_step=None, 
     damping = DAMPING_START if damped and not blocked else None
     for steps in range(max_iterations + 1):
         history.append(float(np.linalg.norm(value)))
-        if steps == max_iterations or history[-1] <= tolerance or (blocked and _stalled(history)):
-            break
+        if (steps == max_iterations or history[-1] <= tolerance or not np.isfinite(history[-1])
+                or (blocked and _stalled(history))):
+            break  # a residual that is not finite: the iterate left Φ's domain (or overflowed)
         if damping is not None:
             accepted = _damped_step(manifold, point, value, damping, max_step)
             if accepted is None:
@@ -278,22 +281,26 @@ def project(manifold, point, tolerance=1e-12, max_iterations=60, max_step=None, 
             inverse = blocks_module.pseudo_inverse(manifold, point, STEP_RCOND, sparse_columns=SPARSE_BLOCK_COLUMNS)
             step = -scales * apply_pseudo_inverse(inverse, value)
             if max_step is not None:
-                blocks_module.cap_block_steps(manifold.pattern, step, max_step)
+                blocks_module.cap_block_steps(manifold.pattern, step, max_step, scales)
         else:
             step = -scales * np.linalg.lstsq(scaled_jacobian(manifold, point), value, rcond=STEP_RCOND)[0]
-            norm = np.linalg.norm(step)
+            norm = np.linalg.norm(step / scales)
             if max_step is not None and norm > max_step:
                 step *= max_step / norm
         point = ambient.retract(point, step)
         value = manifold.constraint(point)
     final = float(np.linalg.norm(value))
-    if not np.isfinite(final) or final > tolerance:
+    method = "Levenberg-Marquardt" if damping is not None else "Gauss-Newton"
+    if not np.isfinite(final):
+        raise ProjectionError(f"{method} projection did not converge: the residual is not finite after {steps} "
+                              f"iterations (an iterate left the constraint map's domain)")
+    if final > tolerance:
         raise ProjectionError(
-            f"Gauss-Newton projection did not converge: residual {final:.3g} "
+            f"{method} projection did not converge: residual {final:.3g} "
             f"> tolerance {tolerance:.3g} after {steps} iterations"
         )
     if manifold.is_solution is not None and not manifold.is_solution(point):
-        raise ProjectionError("Gauss-Newton converged to a spurious zero of the constraint map")
+        raise ProjectionError(f"{method} converged to a spurious zero of the constraint map")
     return point
 
 
@@ -308,13 +315,13 @@ def _damped_step(manifold, point, value, damping, max_step):
     residual_before = np.linalg.norm(value)
     while damping <= DAMPING_LARGEST:
         step = -scales * (right_transposed.T @ (singular / (singular ** 2 + damping * reference) * along))
-        norm = np.linalg.norm(step)
+        norm = np.linalg.norm(step / scales)
         if max_step is not None and norm > max_step:
             step *= max_step / norm
         candidate = ambient.retract(point, step)
         candidate_value = manifold.constraint(candidate)
         if np.linalg.norm(candidate_value) < residual_before:  # False for NaN: a step that leaves the domain
-            return candidate, candidate_value, max(damping / 3, DAMPING_SMALLEST)
+            return candidate, candidate_value, max(damping / 10, DAMPING_SMALLEST)
         damping *= 4
     return None
 
@@ -361,6 +368,8 @@ def project_many(manifold, points, tolerance=1e-12, max_iterations=60):
     ambient = manifold.ambient
     scales = ambient.tangent_scales
     requested = np.asarray(points, dtype=float)
+    if not requested.size:  # an empty stack: nothing to project
+        return requested.copy(), np.zeros(requested.shape[:-1], dtype=bool)
     projected = requested.reshape(-1, ambient.point_size).copy()
     values = np.asarray(manifold.constraint(projected), dtype=float).reshape(len(projected), -1)
     active = np.arange(len(projected))

@@ -75,7 +75,7 @@ def local_rank(manifold, point, rng, count=6, radius=1e-3, rtol=DEFAULT_RTOL, at
         direction /= np.linalg.norm(direction)
         guess = ambient.retract(point, radius * scales * direction)
         try:
-            neighbour = project(manifold, guess, max_step=10 * radius * scales.max())
+            neighbour = project(manifold, guess, max_step=10 * radius)
         except ProjectionError:
             continue
         if np.linalg.norm(ambient.inverse_retract(point, neighbour) / scales) > 20 * radius:
@@ -120,9 +120,9 @@ def sample_manifold(manifold, rng, starts, random_count=24, walk_count=24, step=
     for guess in ambient.random_point(rng, center=starts[0], size=random_count):
         try:
             if manifold.closing is not None:
-                guess = project(manifold.closing, guess, tolerance=CLOSING_TOLERANCE, max_step=scales.max(),
+                guess = project(manifold.closing, guess, tolerance=CLOSING_TOLERANCE, max_step=1.0,
                                 max_iterations=CLOSING_ITERATIONS, damped=True)
-            samples.append(project(manifold, guess, max_step=scales.max()))
+            samples.append(project(manifold, guess, max_step=1.0))
         except ProjectionError:
             continue
     for start in starts:
@@ -132,7 +132,7 @@ def sample_manifold(manifold, rng, starts, random_count=24, walk_count=24, step=
             direction /= np.linalg.norm(direction)
             try:
                 candidate = project(manifold, ambient.retract(current, step * scales * direction),
-                                    max_step=step * scales.max())
+                                    max_step=step)
             except ProjectionError:
                 continue
             samples.append(candidate)

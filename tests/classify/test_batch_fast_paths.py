@@ -90,11 +90,14 @@ def test_block_arrow_bases_span_the_kernel(name):
     np.testing.assert_allclose(fast @ np.swapaxes(fast, -1, -2), general @ np.swapaxes(general, -1, -2), atol=1e-12)
     np.testing.assert_allclose(np.swapaxes(fast, -1, -2) @ fast, np.broadcast_to(np.eye(legs), (len(fast), legs, legs)),
                                atol=1e-12)
-    # a loop's own block made singular: that configuration takes the general way, the others stay fast
+    # a loop's own block made singular: that configuration takes the general way, the others stay as they were
+    # (a sample of M may itself have a singular own block: a random start can reach a leg of length zero)
+    before = batch_module._arrow_bases(jacobian, structure)[1]
+    assert (before <= batch_module.ARROW_CONDITION).sum() >= len(before) - 2
     broken = jacobian.copy()
     broken[0][np.ix_(structure.rows[0], structure.own[0])] = 0.0
     bases, condition = batch_module._arrow_bases(broken, structure)
-    assert condition[0] == np.inf and (condition[1:] <= batch_module.ARROW_CONDITION).all()
+    assert condition[0] == np.inf and np.array_equal(condition[1:], before[1:])
     kernel = kernel_bases(broken, rank, structure)
     assert np.abs(broken @ kernel).max() < 1e-12
 

@@ -62,3 +62,10 @@ def test_unknown_factor_and_wrong_scales_are_refused():
         AmbientSpace(("T2",))
     with pytest.raises(ValueError, match="scales"):
         AmbientSpace(("R",), scales=(1.0, 2.0))
+
+
+@pytest.mark.parametrize("scale", [0.0, -1.0, float("nan"), float("inf")])
+def test_a_scale_must_be_finite_and_positive(scale):
+    """A zero scale erased its coordinates from every rank decision (the line x = 0 had rank 0)."""
+    with pytest.raises(ValueError, match="finite positive"):
+        AmbientSpace(("R", "R"), scales=(scale, 1.0))

@@ -78,15 +78,17 @@ def test_block_pseudo_inverse_solves_as_the_dense_one(singular, sparse_columns):
 
 
 def test_capped_steps_keep_each_block_within_the_cap():
+    """The cap is on each block's dimensionless norm ‖step / s‖ (radians and lengths over their scale)."""
     rng = np.random.default_rng(32)
     manifold, _ = linear_manifold(rng)
     step = rng.standard_normal(9)
     step[[1, 2, 8]] *= 1e-3  # a block already within the cap is left as it is
+    scales = rng.uniform(0.5, 20.0, 9)
     capped = step.copy()
-    cap_block_steps(manifold.pattern, capped, 0.5)
+    cap_block_steps(manifold.pattern, capped, 0.5, scales)
     for group in manifold.pattern.blocks:
         for columns in group.columns:
-            norm = np.linalg.norm(step[columns])
+            norm = np.linalg.norm(step[columns] / scales[columns])
             expected = step[columns] * min(1.0, 0.5 / norm)
             np.testing.assert_allclose(capped[columns], expected, rtol=1e-15)
     assert capped[7] == step[7]  # the free column belongs to no block

@@ -116,3 +116,66 @@ def test_sampling_reaches_points_of_the_manifold():
     samples = sample_manifold(circle(), rng, np.array([[2.0, 0.0]]), random_count=5, walk_count=5)
     np.testing.assert_allclose(np.hypot(samples[:, 0], samples[:, 1]), 2.0, atol=1e-10)
     assert len(samples) > 5
+
+
+# ------------------------------------------------------------------------------------------------ an audit
+
+def test_an_iterate_that_leaves_the_domain_ends_in_a_projection_error():
+    """Φ = eˣ − 1 from x = −10: Newton's first step overflows (and √x − 1 from 9 steps to x < 0, NaN); the
+    next least-squares solve raised LinAlgError, which the callers of project do not catch."""
+    overflow = ImplicitManifold(AmbientSpace(("R",)), lambda p: np.exp(p[:1]) - 1.0,
+                                lambda p: np.exp(p[:1])[None])
+    with np.errstate(over="ignore"), pytest.raises(ProjectionError, match="not finite"):
+        project(overflow, [-10.0])
+    root = ImplicitManifold(AmbientSpace(("R",)), lambda p: np.sqrt(p[:1]) - 1.0,
+                            lambda p: (0.5 / np.sqrt(p[:1]))[None])
+    with np.errstate(invalid="ignore"), pytest.raises(ProjectionError, match="not finite"):
+        project(root, [9.0])
+    with np.errstate(invalid="ignore"):
+        samples = sample_manifold(root, np.random.default_rng(3), [[1.0]], random_count=4, walk_count=8)
+    assert np.allclose(samples, 1.0)
+
+
+def scaled_curve(length):
+    """Φ(θ, x) = x/L − 2 sin 3θ − 0.5 on S¹ × ℝ: one curve, its length x in units where L is `length`."""
+    return ImplicitManifold(AmbientSpace(("S1", "R"), scales=(1.0, length)),
+                            lambda p: np.array([p[1] / length - 2 * np.sin(3 * p[0]) - 0.5]),
+                            lambda p: np.array([[-6 * np.cos(3 * p[0]), 1.0 / length]]))
+
+
+def test_a_capped_projection_and_the_samples_do_not_depend_on_the_unit_of_length():
+    """The cap is on the dimensionless step ‖v / s‖; it was on ‖v‖, radians and lengths added, so that in mm
+    an angle's step was uncapped where in m it was capped (and sample_manifold's samples differed)."""
+    results = []
+    for length in (1.0, 1000.0):
+        manifold = scaled_curve(length)
+        point = project(manifold, [0.3, 5.0 * length], max_step=0.5)
+        samples = sample_manifold(manifold, np.random.default_rng(3), [[np.arcsin(-0.25) / 3, 0.0]],
+                                  random_count=6, walk_count=6)
+        results.append((point / [1.0, length], samples / [1.0, length]))
+    np.testing.assert_allclose(results[0][0], results[1][0], atol=1e-9)
+    np.testing.assert_allclose(results[0][1], results[1][1], atol=1e-9)
+
+
+@pytest.mark.parametrize("small", [1e-4, 1e-7, 1e-8])
+def test_damped_projection_converges_on_an_ill_conditioned_linear_map(small):
+    """Φ = diag(1, ε)(p − 1): Gauss-Newton's one step; the damping's floor 1e-12 σ₁² froze the ε direction."""
+    matrix = np.diag([1.0, small])
+    level = ImplicitManifold(AmbientSpace(("R", "R")), lambda p: matrix @ (p - 1.0), lambda p: matrix)
+    point = project(level, [0.0, 0.0], damped=True)
+    assert np.linalg.norm(matrix @ (point - 1.0)) <= 1e-12
+
+
+def test_continuation_does_not_certify_a_jump_from_an_isolated_point_to_a_nearby_branch():
+    """(x² + y²)(x − y − 0.012) = 0: the origin is isolated, a line passes 0.0085 away. The first corrector
+    landed on the line and the walk along it was certified as a curve through the origin (a false
+    'degenerate' for the second-order test); the midpoint of that first secant is far from M."""
+    level = ImplicitManifold(
+        AmbientSpace(("R", "R")),
+        lambda p: np.array([(p[0] ** 2 + p[1] ** 2) * (p[0] - p[1] - 0.012)]),
+        lambda p: np.array([[2 * p[0] * (p[0] - p[1] - 0.012) + p[0] ** 2 + p[1] ** 2,
+                             2 * p[1] * (p[0] - p[1] - 0.012) - p[0] ** 2 - p[1] ** 2]]))
+    for direction in ([1.0, 0.0], [1.0, 0.5], [1.0, 1.0], [0.5, 1.0]):
+        assert not continue_curve(level, np.zeros(2), np.array(direction), length=0.1, step=0.01).reached
+    certificate = continue_curve(circle(), np.array([2.0, 0.0]), np.array([0.0, 1.0]), length=0.5, step=0.05)
+    assert certificate.reached

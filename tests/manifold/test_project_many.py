@@ -82,3 +82,10 @@ def test_a_point_that_cannot_be_projected_is_reported_where_project_raises():
         else:
             with pytest.raises(ProjectionError):
                 project(circle, start, max_iterations=20)
+
+
+def test_an_empty_stack_is_projected_to_an_empty_stack():
+    circle = ImplicitManifold(AmbientSpace(("R", "R")), lambda p: (p ** 2).sum(-1, keepdims=True) - 1,
+                              lambda p: 2 * p[..., None, :])
+    projected, reached = project_many(circle, np.zeros((0, 2)))
+    assert projected.shape == (0, 2) and reached.shape == (0,)
