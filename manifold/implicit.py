@@ -162,6 +162,7 @@ def jacobian_rank(manifold, point, rtol=DEFAULT_RTOL, atol=DEFAULT_ATOL):
     """
     if not _blocked(manifold):
         return numerical_rank(scaled_jacobian(manifold, point), rtol=rtol, atol=atol)
+    point = _one_point(manifold, point, "jacobian_rank")  # NaN would end in LAPACK's 'SVD did not converge'
     shape = manifold.pattern.shape
     if min(shape) == 0:
         return block_rank([], shape, rtol=rtol, atol=atol)
@@ -393,6 +394,7 @@ def project_many(manifold, points, tolerance=1e-12, max_iterations=60):
 
 def _blocked_decision(manifold, point, rtol, atol):
     """Block SVDs (full matrices) of DΦ(point)·diag(s) and the rank decision of the whole matrix."""
+    point = _one_point(manifold, point, "the block-by-block rank decision")
     decomposition = decompose(manifold, point)
     return decomposition, block_rank([entry[1] for entry in decomposition], manifold.pattern.shape, rtol, atol)
 

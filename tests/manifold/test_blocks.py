@@ -9,7 +9,10 @@ block by block equal their dense counterparts.
 import numpy as np
 import pytest
 
-from manifold import AmbientSpace, ImplicitManifold, JacobianPattern, numerical_rank
+from manifold import (
+    AmbientSpace, ImplicitManifold, JacobianPattern, jacobian_rank, normal_basis, numerical_rank, sparse_tangent_basis,
+    tangent_basis,
+)
 from manifold.blocks import (
     apply_pseudo_inverse, block_rank, block_vectors, cap_block_steps, decompose, dense_basis, pseudo_inverse,
     scaled_blocks, sparse_basis,
@@ -92,3 +95,20 @@ def test_capped_steps_keep_each_block_within_the_cap():
             expected = step[columns] * min(1.0, 0.5 / norm)
             np.testing.assert_allclose(capped[columns], expected, rtol=1e-15)
     assert capped[7] == step[7]  # the free column belongs to no block
+
+
+@pytest.mark.parametrize("function", [jacobian_rank, normal_basis, sparse_tangent_basis, tangent_basis])
+def test_a_point_that_is_not_finite_is_refused_on_the_block_path_as_on_the_dense_one(function):
+    """40 independent circles (k = 80 ≥ BLOCK_THRESHOLD): NaN ended in LAPACK's 'SVD did not converge'."""
+    count = 40
+    rows, columns = np.repeat(np.arange(count), 2), np.arange(2 * count)
+    manifold = ImplicitManifold(
+        AmbientSpace(("R",) * (2 * count)),
+        lambda p: p[..., 0::2] ** 2 + p[..., 1::2] ** 2 - 1.0,
+        lambda p: JacobianPattern((count, 2 * count), rows, columns).dense(2 * np.asarray(p, dtype=float)),
+        pattern=JacobianPattern((count, 2 * count), rows, columns),
+        constraint_jacobian_entries=lambda p: 2 * np.asarray(p, dtype=float))
+    point = np.ones(2 * count)
+    point[3] = np.nan
+    with pytest.raises(ValueError, match="non-finite"):
+        function(manifold, point)
