@@ -1,7 +1,8 @@
 """A catalogue entry: a named mechanism family, its builder and its named configurations.
 
-A builder is a function of keyword-only parameters, each with a default from
-the paper (design dimensions, input values, assembly branch or working mode),
+A builder is a function of keyword-only parameters, each with a default
+(design dimensions, input values, assembly branch or working mode: the
+paper's where it gives numbers, else a design of ours that its docstring states),
 returning the :class:`~mechanisms.Mechanism` assembled at that configuration:
 its home *is* the requested configuration, so the named configurations of an
 entry are parameter presets, and a nearby configuration is the same builder

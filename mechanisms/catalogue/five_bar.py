@@ -4,9 +4,9 @@ Fixed revolutes A at the origin and B = (L0, 0); proximal links AC (L1) and
 BD (L3), distal links CP (L2) and DP (L4) meeting at the revolute centre P,
 the end-effector point (Chablat, Wenger & Angeles 1998 Fig. 1, eqs. 1-3). The
 actuated angles θ1 (of C − A) and θ2 (of D − B) and the coupler angles θ3 (of
-P − C) and θ4 (of P − D) are measured from the direction of AB. The design of
-Park & Kim (1999 eq. 8, Figs. 1, 6, 13) is the
-symmetric L0 = 2, L1 = L2 = 1 (Fig. 13: a non-symmetric design).
+P − C) and θ4 (of P − D) are measured from the direction of AB. Park & Kim
+(1999 eq. 8, Figs. 1, 6, 13) give no dimensions: our reading of their figures
+is the symmetric L0 = 2, L1 = L2 = 1 (Fig. 13: a non-symmetric design).
 
 The singular configurations of Chablat, Wenger & Angeles 1998: the direct-kinematics matrix A (eq. 3b) is
 singular iff θ3 − θ4 = kπ (eq. 9); the inverse-kinematics matrix B (eq. 3c) iff

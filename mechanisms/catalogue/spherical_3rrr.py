@@ -117,7 +117,7 @@ def spherical_3rrr(*, alpha1=math.pi / 3, alpha2=math.pi / 4, rotation_x=0.3, ro
         base frame (rad); the gripper axes are vᵢ = Q uᵢ (:func:`motor_axes`).
     working_mode_1, working_mode_2, working_mode_3 : {1, -1}
         Working mode of each leg: the sign of (uᵢ × vᵢ)·wᵢ (G-A eq. 69 has
-        Bᵢᵢ = (wᵢ × uᵢ)·vᵢ = −working_mode ‖Bᵢᵢ‖).
+        Bᵢᵢ = (wᵢ × uᵢ)·vᵢ = (uᵢ × vᵢ)·wᵢ = working_mode ‖Bᵢᵢ‖).
     theta_folded : float
         Input angle θ (rad, from the base plane) of a leg folded onto its
         motor axis (vᵢ = uᵢ, reachable when α₁ = α₂ at Q = 1), where the

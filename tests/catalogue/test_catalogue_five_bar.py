@@ -103,7 +103,7 @@ def test_every_named_configuration_is_checked():
 
 
 def test_the_named_configurations_are_at_the_papers_geometry():
-    """Park & Kim's joint positions (Figs. 1, 6; J1..J5 = A, C, P, D, B) are reproduced."""
+    """Our reading of Park & Kim's Figs. 1, 6 (the paper gives no coordinates; J1..J5 = A, C, P, D, B) is reproduced."""
     expected = {
         "fig1a_collinear": [(0, 0), (1, 0), (2, 0), (3, 0), (2, 0)],
         "fig1b_collinear": [(0, 0), (-1, 0), (0, 0), (1, 0), (2, 0)],
