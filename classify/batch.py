@@ -51,7 +51,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from manifold import DEFAULT_ATOL, DEFAULT_RTOL, check_rtol, implicit
+from manifold import DEFAULT_ATOL, DEFAULT_RTOL, check_rtol, implicit, tangent_extents
 from mechanisms import CLOSURE_TOLERANCE, ConfigurationError, Mechanism, closure_and_jacobian
 from mechanisms.mechanism import dense_memory_estimate
 
@@ -375,6 +375,14 @@ def _first_order(model, points, survey, rtol, offset, columns=None):
     for rank in np.unique(constraint_ranks[regular]):
         group = regular[constraint_ranks[regular] == rank]
         basis, amplification = _kernel_bases(jacobian[group], int(rank), structure)
+        if rank < jacobian.shape[-2] and rank < jacobian.shape[-1]:
+            # DΦ short of its rows (an overconstrained chain): M may extend along fewer directions than ker DΦ
+            # (an infinitesimal flex of a structure, manifold.tangent_extent): those are classified one at a time
+            flexed = tangent_extents(model.manifold, points[group], scales[:, None] * basis) < basis.shape[-1]
+            full[group[flexed]] = True
+            group, basis, amplification = group[~flexed], basis[~flexed], amplification[~flexed]
+            if not group.size:
+                continue
         error = basis_error(largest[group], constraint_margins[group, 0], amplification)
         full[group] |= _regular_columns(model, points[group], scales[:, None] * basis, int(rank), survey, rtol,
                                         columns, group, error)

@@ -31,7 +31,9 @@ from functools import cached_property
 
 import numpy as np
 
-from manifold import DEFAULT_RTOL, check_rtol, local_rank, numerical_rank, scaled_jacobian, tangent_basis
+from manifold import (
+    DEFAULT_RTOL, check_rtol, local_rank, numerical_rank, scaled_jacobian, tangent_basis, tangent_extent,
+)
 from mechanisms import CLOSURE_TOLERANCE, ConfigurationError, Mechanism
 
 from .metrics import manipulability
@@ -117,7 +119,22 @@ def classify(mechanism, point, survey=None, rng=None, rtol=DEFAULT_RTOL, length_
                      "which is larger than the tangent spaces of M nearby")
     lost = (scales[:, None] * _kernel_beyond(scaled_jacobian(manifold, point), constraint_decision.rank, near_rank)
             if cspace_singular else np.zeros((k, 0)))
-    cspace = KindResult(cspace_singular, constraint_decision.rank, near_rank, constraint_decision, lost,
+    expected_constraint = near_rank
+    rows = int(np.shape(loop_rows)[-1])
+    if not cspace_singular and dof and constraint_decision.rank < rows:
+        # DΦ(p) short of its rows at the rank M has near p: M may still extend along fewer directions than
+        # ker DΦ(p) has (an infinitesimal flex of a structure that cannot move, where M is a point)
+        extent = tangent_extent(manifold, point, basis)
+        if extent.extent < dof:
+            cspace_singular, lost = True, extent.still
+            expected_constraint = min(rows, k - extent.extent)
+            cspace_extra = {"kernel_dimension": int(basis.shape[1]), "tangent_cone_dimension": extent.extent,
+                            "tangent_cone_span": extent.extent}
+            notes.append(f"C-space singularity: M extends along {extent.extent} of the {dof} directions of "
+                         f"ker DΦ(p); the others are infinitesimal motions no motion of M follows (a structure "
+                         f"flat or stretched); actuator and end-effector ranks are computed on ker DΦ(p)")
+            dof = extent.extent
+    cspace = KindResult(cspace_singular, constraint_decision.rank, expected_constraint, constraint_decision, lost,
                         cspace_extra)
 
     # actuator: G = (E^½ T)ᵀ(E^½ T), decided on the unit actuator rows (weights and units do not matter)

@@ -21,7 +21,9 @@ _SOURCES = {
                      "tangent_basis"), ".implicit"),
     **dict.fromkeys(("DEFAULT_ATOL", "DEFAULT_RTOL", "RankDecision", "numerical_rank", "rank_of_values",
                       "check_rtol"), ".rank"),
-    **dict.fromkeys(("LocalRank", "largest_rank", "local_rank", "sample_manifold"), ".sampling"),
+    **dict.fromkeys(("LocalRank", "largest_rank", "local_rank", "sample_manifold", "TangentExtent", "tangent_extent",
+                     "tangent_extents"),
+                    ".sampling"),
 }
 
 __getattr__, __dir__, __all__ = attach(__name__, _SOURCES)

@@ -13,10 +13,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from .errors import ProjectionError
-from .implicit import jacobian_rank, project
+from .implicit import jacobian_rank, project, project_many
 from .rank import DEFAULT_ATOL, DEFAULT_RTOL, numerical_rank
 
-__all__ = ["LocalRank", "local_rank", "sample_manifold", "largest_rank"]
+__all__ = ["LocalRank", "local_rank", "sample_manifold", "largest_rank", "TangentExtent", "tangent_extent",
+           "tangent_extents", "EXTENT_STEP", "EXTENT_CUT"]
 
 #: a random point is projected onto ``manifold.closing`` until its residual is below this (then onto Φ, to
 #: Φ's own tolerance): close enough that Gauss-Newton on Φ converges to the same point of M
@@ -83,6 +84,103 @@ def local_rank(manifold, point, rng, count=6, radius=1e-3, rtol=DEFAULT_RTOL, at
         neighbours.append(neighbour)
         rank = max(rank, jacobian_rank(manifold, neighbour, rtol=rtol, atol=atol).rank)
     return LocalRank(rank, ambient.dim - rank, np.array(neighbours).reshape(-1, ambient.point_size))
+
+
+#: dimensionless step h along each direction of ker DΦ(p) in :func:`tangent_extent`
+EXTENT_STEP = 1e-3
+#: a direction counts as one M extends along when its secant keeps more than this of its length: on M the
+#: secant of a step h differs from the direction by O(κh) (κ the curvature), towards a point where M does not
+#: extend it shrinks to O(h)
+EXTENT_CUT = 0.5
+
+
+@dataclass(frozen=True, eq=False)
+class TangentExtent:
+    """How many directions of ker DΦ(p) M extends along (:func:`tangent_extent`).
+
+    Attributes
+    ----------
+    extent : int
+        The number of singular values of the secant matrix above :data:`EXTENT_CUT`.
+    singular_values : ndarray, shape=[m]
+        Those of the secant matrix (1 along a direction M extends along, ≈ 0 along a flex).
+    still : ndarray, shape=[k, m - extent]
+        Joint-rate directions (columns of ``basis`` combined) along which M does not extend: infinitesimal
+        motions (flexes) that no curve of M follows.
+    """
+
+    extent: int
+    singular_values: np.ndarray
+    still: np.ndarray
+
+
+def tangent_extent(manifold, point, basis, step=EXTENT_STEP):
+    """Along how many directions of ``ker DΦ(p)`` (the columns of `basis`) M extends from `point`.
+
+    For each column t of `basis` (orthonormal for ⟨·,·⟩_s), the point ``p ⊕ h t`` is projected back onto M
+    (:func:`manifold.project_many`) and the dimensionless secant ``(q ⊖ p) / (h s)`` kept. Where M is a
+    manifold with tangent space ker DΦ(p), every secant is its direction up to O(κh) and the secant matrix has
+    singular values ≈ 1. Where DΦ(p) has a kernel M does not follow — an infinitesimal flex of a structure
+    that cannot move (a triangle with its sides flat, a four-bar fully stretched: M is a point there, yet DΦ
+    loses rank; its rank on M near p is that rank, so k − rank overstates the dimension) — the projection
+    returns towards p and the secant shrinks to O(h). The extent is the number of singular values above
+    :data:`EXTENT_CUT` (a projection that does not converge counts as a secant of zero). The constraint map
+    must take stacks of points; :func:`tangent_extents` does a stack of points at once, with the same
+    arithmetic point by point.
+
+    Parameters
+    ----------
+    manifold : ImplicitManifold
+    point : array_like, shape=[point_size]
+    basis : ndarray, shape=[k, m]
+        A basis of ker DΦ(p) (:func:`manifold.tangent_basis`).
+    step : float
+
+    Returns
+    -------
+    TangentExtent
+    """
+    values, right_transposed = _secant_decompositions(manifold, np.asarray(point, dtype=float)[None],
+                                                      np.asarray(basis, dtype=float)[None], step)
+    extent = int(np.count_nonzero(values[0] > EXTENT_CUT))
+    return TangentExtent(extent, values[0], basis @ right_transposed[0, extent:].T)
+
+
+def tangent_extents(manifold, points, bases, step=EXTENT_STEP):
+    """:func:`tangent_extent` of a stack of points, shape=[n]: the extents alone.
+
+    Parameters
+    ----------
+    manifold : ImplicitManifold
+    points : ndarray, shape=[n, point_size]
+    bases : ndarray, shape=[n, k, m]
+    step : float
+
+    Returns
+    -------
+    ndarray of int, shape=[n]
+    """
+    values, _ = _secant_decompositions(manifold, np.asarray(points, dtype=float), np.asarray(bases, dtype=float),
+                                       step)
+    return np.count_nonzero(values > EXTENT_CUT, axis=-1)
+
+
+def _secant_decompositions(manifold, points, bases, step):
+    """Singular values [n, m] and right singular vectors [n, m, m] of the secant matrices of
+    :func:`tangent_extent`."""
+    ambient = manifold.ambient
+    scales = ambient.tangent_scales
+    count, k, width = bases.shape
+    if not width:
+        return np.zeros((count, 0)), np.zeros((count, 0, 0))
+    starts = np.repeat(points, width, axis=0)                                       # [n·m, point_size]
+    directions = np.swapaxes(bases, -1, -2).reshape(count * width, k)               # [n·m, k]
+    moved, reached = project_many(manifold, ambient.retract(starts, step * directions))
+    secants = ambient.inverse_retract(starts, moved) / scales / step                # [n·m, k]
+    secants[~reached] = 0.0
+    secants = np.swapaxes(secants.reshape(count, width, k), -1, -2)                 # [n, k, m]
+    _, values, right_transposed = np.linalg.svd(secants, full_matrices=True)
+    return values, right_transposed
 
 
 def sample_manifold(manifold, rng, starts, random_count=24, walk_count=24, step=0.3):
