@@ -56,7 +56,7 @@ from mechanisms import CLOSURE_TOLERANCE, ConfigurationError, Mechanism, closure
 from mechanisms.mechanism import dense_memory_estimate
 
 from .classification import classify
-from .metrics import JACOBI_ROWS, JACOBI_STACK, metric_root, proper_values, singular_values
+from .metrics import JACOBI_ROWS, JACOBI_STACK, metric_root, moving_directions, proper_values, singular_values
 from .model import model_of
 from .progress import progress_bar
 from .report import KINDS
@@ -704,11 +704,20 @@ def _regular_columns(model, points, basis, constraint_rank, survey, rtol, column
     columns["margins"]["end_effector"][rows] = end_effector_margins
     columns["tolerances"]["end_effector"][rows] = end_effector_tolerance
     columns["singular"][rows, KINDS.index("end_effector")] = end_effector_ranks < expected_end_effector
-    definite = np.flatnonzero(actuator_ranks == dof) if dof > 0 else np.zeros(0, dtype=int)
-    if len(definite):
-        values = proper_values(model.actuators @ basis[definite], end_effector_jacobian[definite] @ basis[definite],
-                               model.end_effector_metric, min(n, dof))
-        vanishing = end_effector_ranks[definite] < min(n, dof)
+    # G definite on the motions that move something (with idle freedoms, on a complement of them, as classify)
+    moves = dof - idle
+    for kept in np.unique(moves[(moves > 0) & (actuator_ranks == moves)]):
+        definite = np.flatnonzero((moves == kept) & (actuator_ranks == kept))
+        moving = basis[definite]
+        if kept < dof:
+            stacked_rows = np.concatenate([
+                actuator_block[definite] / max(actuator_scale, 1e-300),
+                end_effector_block[definite] / np.maximum(end_effector_scale[definite], 1e-300)[:, None, None]],
+                axis=1)
+            moving = moving @ moving_directions(stacked_rows, int(kept))
+        values = proper_values(model.actuators @ moving, end_effector_jacobian[definite] @ moving,
+                               model.end_effector_metric, min(n, int(kept)))
+        vanishing = end_effector_ranks[definite] < min(n, int(kept))
         smallest = values[:, -1]
         condition = np.where(vanishing | (smallest <= 0.0), np.nan,
                              values[:, 0] / np.where(smallest > 0.0, smallest, 1.0))

@@ -36,7 +36,7 @@ from manifold import (
 )
 from mechanisms import CLOSURE_TOLERANCE, ConfigurationError, Mechanism
 
-from .metrics import manipulability
+from .metrics import manipulability, moving_directions
 from .model import model_of
 from .report import KindResult, Report
 from .second_order import idle_slice, second_order_test
@@ -164,10 +164,13 @@ def classify(mechanism, point, survey=None, rng=None, rtol=DEFAULT_RTOL, length_
                                   {"on_kernel_of_constraint": True} if cspace_singular else {})
 
     # manipulability proper values, where G is definite on T_pM (in the user's units and weights)
+    # (with idle freedoms, on a complement of them: G and JᵀHJ both vanish on them, metrics.moving_directions)
     proper = None
-    if n and not cspace_singular and actuator_decision.rank == basis.shape[1] and basis.shape[1] > 0:
-        proper = manipulability(model.actuators @ basis, model.end_effector_jacobian(point) @ basis,
-                                model.end_effector_metric, min(n, dof), rank=end_effector.rank)
+    moves = basis.shape[1] - idle
+    if n and not cspace_singular and moves > 0 and actuator_decision.rank == moves:
+        motions = basis if not idle else basis @ moving_directions(stacked(*blocks), moves)
+        proper = manipulability(model.actuators @ motions, model.end_effector_jacobian(point) @ motions,
+                                model.end_effector_metric, min(n, moves), rank=end_effector.rank)
 
     # second order, at regular points of M only
     second = None

@@ -35,6 +35,7 @@ __all__ = [
     "actuator_metric", "weighted_actuator_jacobian", "end_effector_metric",
     "metric_root", "pullback_metric", "Manipulability", "manipulability",
     "unit_rows", "largest_singular_value", "proper_values", "singular_values", "jacobi_singular_values",
+    "moving_directions",
 ]
 
 
@@ -153,6 +154,31 @@ class Manipulability:
             "condition_number": None if self.condition_number is None else float(self.condition_number),
             "volume": float(self.volume),
         }
+
+
+def moving_directions(stacked_rows, keep):
+    """Coordinates of a complement of the idle freedoms in a tangent basis, shape=[..., m, keep].
+
+    The idle freedoms are the kernel (dimension m − keep) of the stacked
+    actuator and end-effector rows on T_pM (:func:`classify.survey.stacked`);
+    the first `keep` right singular vectors of those rows span their
+    orthogonal complement. G and JᵀHJ both vanish on the idle freedoms, so
+    their pencil on T_pM is that of the quotient by them, and the proper
+    values ``det(λG − JᵀHJ) = 0`` on any complement are those of the motions
+    that move something (Park & Kim 1999, Section 2, where G is definite).
+
+    Parameters
+    ----------
+    stacked_rows : ndarray, shape=[..., a + n, m]
+    keep : int
+        m − (the number of idle freedoms).
+
+    Returns
+    -------
+    ndarray, shape=[..., m, keep]
+    """
+    right_transposed = np.linalg.svd(np.asarray(stacked_rows, dtype=float), full_matrices=True)[2]
+    return np.swapaxes(right_transposed[..., :keep, :], -1, -2)
 
 
 def proper_values(actuator_block, end_effector_block, metric, count):

@@ -103,7 +103,7 @@ Legend
                          degenerate actuator singularity.
   κ                      the condition number λ₁/λₙ of the manipulability proper values; `∞` at an end-effector
                          singularity (λₙ = 0); `-` where they are not defined (no end-effector, an actuator or
-                         a C-space singularity).
+                         a C-space singularity); with idle freedoms, of the motions that move something.
   G–A (derived)          Gosselin & Angeles's kinds from the matrices A, B derived from the mechanism: I (det B
                          = 0) ↔ end-effector, II (det A = 0) ↔ actuator, III (both) ↔ both or C-space;
                          `regular`; `undefined` where A and B are not n × n. The outputs are the end-effector's

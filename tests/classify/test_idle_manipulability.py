@@ -1,0 +1,48 @@
+"""Manipulability with idle freedoms: the proper values on a complement of the motions that move nothing.
+
+A Gough–Stewart platform with S joints at the base (6-SPS) has six idle freedoms, each leg's spin about its
+own axis: G = (E^½ T)ᵀ(E^½ T) is singular on T_pM, so no λ was given. G and JᵀHJ both vanish on those spins,
+and the pencil det(λG − JᵀHJ) of the quotient by them (Park & Kim 1999, Section 2) is that of the 6-UPS,
+whose U joints do not spin: the same λ's.
+"""
+
+import numpy as np
+import pytest
+
+from classify import classify, classify_many, model_of
+from manifold import sample_manifold
+from mechanisms import Joint, Mechanism, catalogue, configuration
+
+
+def balls_for_universals(mechanism):
+    """The same mechanism with every U joint a ball joint (S) at the same centre."""
+    joints = [Joint(joint.name, "S", joint.links, point=joint.point) if joint.type == "U" else joint
+              for joint in mechanism.joints]
+    return Mechanism(mechanism.name, mechanism.space, joints, mechanism.ground, mechanism.end_effector)
+
+
+@pytest.mark.parametrize("name", [None, "fichter_rotated_plus_90"])
+def test_a_6sps_has_the_proper_values_of_its_6ups(name):
+    universal = catalogue.entry("gough-stewart").mechanism(name)
+    ball = balls_for_universals(universal)
+    expected = classify(universal, configuration(universal, {}).point)
+    found = classify(ball, configuration(ball, {}).point)
+    assert found.idle_freedoms == 6 and expected.idle_freedoms == 0
+    assert found.kinds == expected.kinds
+    if expected.manipulability is None:
+        assert found.manipulability is None
+        return
+    np.testing.assert_allclose(found.manipulability.eigenvalues, expected.manipulability.eigenvalues, rtol=1e-9)
+    assert found.manipulability.condition_number == pytest.approx(expected.manipulability.condition_number,
+                                                                  rel=1e-9)
+
+
+def test_the_batch_gives_the_proper_values_with_idle_freedoms_as_single_calls():
+    ball = balls_for_universals(catalogue.entry("gough-stewart").mechanism())
+    model = model_of(ball)
+    points = sample_manifold(model.manifold, np.random.default_rng(8), model.starts, random_count=0, walk_count=6)
+    batch = classify_many(model, points)
+    for item in range(len(points)):
+        single = classify(model, points[item])
+        assert single.manipulability is not None
+        np.testing.assert_allclose(batch.eigenvalues[item], single.manipulability.eigenvalues, rtol=1e-9)
