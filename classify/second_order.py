@@ -46,6 +46,13 @@ __all__ = [
 #: ambient acceleration of unit-speed curves of M at p (at least 1) and s = σ₁ of the unit actuator rows times
 #: diag(s) (:func:`classify.metrics.unit_rows`; independent of the actuator weights)
 SECOND_ORDER_RTOL = 1e-6
+#: residual every point of a self-motion certificate must reach on the fibre (Φ and the actuated coordinates'
+#: rows, dimensionless): near rounding, or 10 times p̄'s own ‖Φ‖ if larger (a configuration given to its
+#: closure tolerance fixes the inputs only that well: no point of a fibre over them closes better). With the
+#: continuation's 1e-10, a design within ~1e-7 of a degenerate one (a 3-RPR with parallel legs whose third leg
+#: is longer by a factor 1 + 1e-7) had a near-miss curve whose residual grows like t² (6e-11 at distance 0.11)
+#: certified as a self-motion; a true self-motion from a point that closes reaches 1e-16
+SELF_MOTION_TOLERANCE = 1e-13
 
 
 @dataclass(frozen=True, eq=False)
@@ -358,11 +365,13 @@ def second_order_test(manifold, point, basis, selection, rng, rtol=1e-6, scale=N
         return SecondOrderResult("nondegenerate", forms, kernel, smallest, tolerance, None, None,
                                  "the forms Q_e have no common nonzero root on ker G")
     along = fibre(manifold, point, selection)
+    certified = max(SELF_MOTION_TOLERANCE, 10.0 * float(np.linalg.norm(manifold.constraint(point))))
     for vector in roots[:max_roots]:
         root = kernel @ vector
         for step_size in (step, step / 4):
             for sign in (1.0, -1.0):
-                certificate = continue_curve(along, point, sign * root, length=length, step=step_size)
+                certificate = continue_curve(along, point, sign * root, length=length, step=step_size,
+                                             tolerance=certified)
                 if certificate.reached:
                     motion = SelfMotion(certificate.direction * scales, certificate.distance,
                                         certificate.largest_residual, certificate.points)

@@ -8,7 +8,7 @@ anything else is refused rather than silently used.
 
 Format (JSON)::
 
-    {"format": "closedchain-survey", "version": 2, "mechanism": NAME,
+    {"format": "closedchain-survey", "version": 3, "mechanism": NAME,
      "fingerprint": HEX, "rtol": 1e-06, "survey": {"samples": …, …}}
 """
 

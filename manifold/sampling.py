@@ -13,6 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .errors import ProjectionError
+from . import implicit as implicit_module
 from .implicit import jacobian_rank, project, project_many
 from .rank import DEFAULT_ATOL, DEFAULT_RTOL, numerical_rank
 
@@ -124,9 +125,8 @@ def tangent_extent(manifold, point, basis, step=EXTENT_STEP):
     that cannot move (a triangle with its sides flat, a four-bar fully stretched: M is a point there, yet DΦ
     loses rank; its rank on M near p is that rank, so k − rank overstates the dimension) — the projection
     returns towards p and the secant shrinks to O(h). The extent is the number of singular values above
-    :data:`EXTENT_CUT` (a projection that does not converge counts as a secant of zero). The constraint map
-    must take stacks of points; :func:`tangent_extents` does a stack of points at once, with the same
-    arithmetic point by point.
+    :data:`EXTENT_CUT`. The constraint map must take stacks of points; :func:`tangent_extents` does a stack
+    of points at once, with the same arithmetic point by point.
 
     Parameters
     ----------
@@ -167,7 +167,14 @@ def tangent_extents(manifold, points, bases, step=EXTENT_STEP):
 
 def _secant_decompositions(manifold, points, bases, step):
     """Singular values [n, m] and right singular vectors [n, m, m] of the secant matrices of
-    :func:`tangent_extent`."""
+    :func:`tangent_extent`.
+
+    The moved points are projected by :func:`~manifold.project_many` in chunks whose dense Jacobians hold
+    about :data:`~manifold.implicit.CHUNK_ENTRIES` floats, or one by one by :func:`~manifold.project` on a
+    manifold handled block by block (no dense Jacobian of it is formed). A projection that stops short of
+    its tolerance (at the rounding floor of a map with large entries) still gives its point: only a point
+    that is not finite counts as a secant of zero.
+    """
     ambient = manifold.ambient
     scales = ambient.tangent_scales
     count, k, width = bases.shape
@@ -175,12 +182,27 @@ def _secant_decompositions(manifold, points, bases, step):
         return np.zeros((count, 0)), np.zeros((count, 0, 0))
     starts = np.repeat(points, width, axis=0)                                       # [n·m, point_size]
     directions = np.swapaxes(bases, -1, -2).reshape(count * width, k)               # [n·m, k]
-    moved, reached = project_many(manifold, ambient.retract(starts, step * directions))
+    predicted = ambient.retract(starts, step * directions)
+    if implicit_module._blocked(manifold):
+        moved = np.array([_projected_or_nan(manifold, guess, step) for guess in predicted])
+    else:
+        rows = max(1, np.shape(manifold.constraint(points[:1]))[-1])
+        chunk = max(1, implicit_module.CHUNK_ENTRIES // (rows * k))
+        moved = np.concatenate([project_many(manifold, predicted[first:first + chunk])[0]
+                                for first in range(0, len(predicted), chunk)])
     secants = ambient.inverse_retract(starts, moved) / scales / step                # [n·m, k]
-    secants[~reached] = 0.0
+    secants[~np.all(np.isfinite(secants), axis=-1)] = 0.0
     secants = np.swapaxes(secants.reshape(count, width, k), -1, -2)                 # [n, k, m]
     _, values, right_transposed = np.linalg.svd(secants, full_matrices=True)
     return values, right_transposed
+
+
+def _projected_or_nan(manifold, guess, step):
+    """:func:`~manifold.project` of `guess`, or NaN where it fails."""
+    try:
+        return project(manifold, guess, max_step=2 * step)
+    except ProjectionError:
+        return np.full(np.shape(guess), np.nan)
 
 
 def sample_manifold(manifold, rng, starts, random_count=24, walk_count=24, step=0.3):
