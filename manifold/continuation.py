@@ -5,8 +5,8 @@ the solution set of Φ = 0: predict ``q ⊕ h·d``, correct by Gauss-Newton, tak
 the secant as the next direction. A step is kept only where the midpoint of
 its secant is within :data:`MIDPOINT_FRACTION` of its length from M (on a
 curve of curvature κ it is κh²/8 away; a corrector that jumped to another
-branch of M, a line passing near an isolated point, leaves it about as far
-as the jump). A curve that reaches distance ≥ `length` from p̄ with every
+branch of M, a line passing near an isolated point, leaves it about half
+as far as the jump). A curve that reaches distance ≥ `length` from p̄ with every
 corrector converged and every midpoint near M is a certificate that p̄ is
 not isolated in that direction.
 """
@@ -24,7 +24,7 @@ __all__ = ["CurveCertificate", "continue_curve", "MIDPOINT_FRACTION"]
 
 #: largest distance from M (dimensionless) of a step's secant midpoint, as a fraction of the step's length:
 #: 1/10 allows curvature up to 0.8/h (a circle of radius 1.25 h), and refuses a jump to another branch
-#: farther than about h/10
+#: farther than about h/5 (the midpoint of a secant to a branch at distance d is about d/2 from M)
 MIDPOINT_FRACTION = 0.1
 
 
