@@ -447,7 +447,13 @@ def _search(problem, rng, count, tolerance, guess_point=None):
     free, residuals = _newton(fibre, np.array(starts), tolerance)
     closed = _closed(problem, free, residuals, tolerance)
     found = [_Found(_wrapped(problem.reduced, free[i]), methods[i]) for i in np.flatnonzero(closed)]
-    smallest = float(np.min(residuals[np.isfinite(residuals)], initial=math.inf))
+    # the smallest residual of the candidates that turn no loop by a half-turn: a half-turn zero is no near miss
+    # (0 when every finite candidate is one, which _no_assembly says)
+    finite = np.isfinite(residuals)
+    turned = finite & ~closes(problem.mechanism, problem.embed(free), np.inf)
+    smallest = float(np.min(residuals[finite & ~turned], initial=math.inf))
+    if not np.isfinite(smallest) and turned.any():
+        smallest = 0.0
     return found, smallest
 
 

@@ -392,3 +392,18 @@ def test_starts_stalled_near_a_singular_assembly_are_one_assembly(seed):
     for index, point in enumerate(points):
         for other in points[:index]:
             assert np.linalg.norm(ambient.inverse_retract(other, point) / ambient.tangent_scales) > 1e-3
+
+
+def test_the_smallest_residual_of_a_failed_assembly_is_no_half_turn_zero():
+    """An RSSR whose rocker angle leaves the coupler 0.04 short: the search also reached a zero of Φ that turns
+    the loop by a half-turn (residual 1.5e-10), and the refusal said 'smallest residual 1.46e-10', as if the
+    loop nearly closed."""
+    mechanism = Mechanism("rssr", "spatial", [
+        Joint("R1", "R", ("ground", "crank"), point=(0.0, 0.0, 0.0), axis=(0.0, 0.0, 1.0)),
+        Joint("S1", "S", ("crank", "coupler"), point=(0.5403023058681398, 0.8414709848078965, 0.0)),
+        Joint("S2", "S", ("coupler", "rocker"), point=(1.8757797451792864, 0.0, 1.8639461402385225)),
+        Joint("R4", "R", ("rocker", "ground"), point=(2.5, 0.0, 0.5), axis=(0.0, 1.0, 0.0), actuated=True)])
+    with pytest.raises(AssemblyError, match="cannot close") as refused:
+        assemble(mechanism, {"R4": -0.4624188365889781}, rng=np.random.default_rng(0))
+    residual = float(str(refused.value).rsplit("smallest residual ", 1)[1].rstrip(")"))
+    assert residual > 1e-3
