@@ -12,7 +12,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from manifold import DEFAULT_RTOL, ProjectionError, continue_curve, numerical_rank, project, tangent_basis
+from manifold import (
+    DEFAULT_RTOL, ProjectionError, continue_curve, numerical_rank, project, scaled_jacobian, tangent_basis,
+)
 
 from .metrics import metric_root
 from .survey import decision_blocks
@@ -67,12 +69,20 @@ def _aligned_basis(model, point, previous, rtol):
 
 
 def _raw_determinants(model, point, basis):
-    """``(det(E^½ Dπ T), det(H^½ Df T))``, each None where the matrix is not square."""
+    """``(det(E^½ Dπ T), det(H^½ Df T), det[DΦ·diag(s); (T/s)ᵀ])``, each None where the matrix is not square.
+
+    The third is the classical test function of branch points in continuation (the Jacobian bordered by the
+    carried tangent basis): it changes sign where the path crosses a simple bifurcation of M, a C-space
+    singularity (a parallelogram flattening into an antiparallelogram).
+    """
     actuator = model.actuators @ basis
-    values = [np.linalg.det(actuator) if actuator.shape[0] == actuator.shape[1] else None, None]
+    values = [np.linalg.det(actuator) if actuator.shape[0] == actuator.shape[1] else None, None, None]
     if model.end_effector_dimension:
         output = metric_root(model.end_effector_metric) @ model.end_effector_jacobian(point) @ basis
         values[1] = np.linalg.det(output) if output.shape[0] == output.shape[1] else None
+    scales = model.manifold.ambient.tangent_scales
+    bordered = np.vstack([scaled_jacobian(model.manifold, point), (basis / scales[:, None]).T])
+    values[2] = np.linalg.det(bordered) if bordered.shape[0] == bordered.shape[1] else None
     return values
 
 
@@ -86,6 +96,9 @@ def _determinants(model, point, basis, rtol):
     for which, (block, scale) in enumerate((blocks[:2], blocks[2:])):
         if values[which] is not None and numerical_rank(block, rtol=rtol, scale=scale).rank < len(block):
             values[which] = None
+    jacobian = scaled_jacobian(model.manifold, point)
+    if values[2] is not None and numerical_rank(jacobian, rtol=rtol).rank < len(jacobian):
+        values[2] = None
     return values
 
 
@@ -99,8 +112,10 @@ def singular_crossings(model, points, rtol=DEFAULT_RTOL, tolerance=1e-12, max_bi
     found by bisection: the midpoint ``p ⊕ ½ (q ⊖ p)`` projected back onto M.
     A singular point of the path (its start, say) is no crossing: it is on
     the path already. Only square maps (as many inputs, or outputs, as
-    degrees of freedom) are followed; a path that crosses a C-space
-    singularity is not bisected there.
+    degrees of freedom) are followed. A C-space singularity the path crosses
+    (a simple bifurcation of M) is found the same way from the sign of
+    ``det[DΦ·diag(s); (T/s)ᵀ]`` where DΦ has full row rank on M (not for an
+    overconstrained chain).
 
     Parameters
     ----------
@@ -116,7 +131,7 @@ def singular_crossings(model, points, rtol=DEFAULT_RTOL, tolerance=1e-12, max_bi
     Returns
     -------
     list of (int, ndarray, str)
-        ``(index, point, "actuator" | "end_effector")`` in order along the
+        ``(index, point, "actuator" | "end_effector" | "cspace")`` in order along the
         path: the singular point lies between ``points[index]`` and
         ``points[index + 1]``.
     """
@@ -129,7 +144,7 @@ def singular_crossings(model, points, rtol=DEFAULT_RTOL, tolerance=1e-12, max_bi
         values.append(_determinants(model, point, bases[-1], rtol))
     found = []
     for index in range(len(points) - 1):
-        for which, kind in enumerate(("actuator", "end_effector")):
+        for which, kind in enumerate(("actuator", "end_effector", "cspace")):
             first, second = values[index][which], values[index + 1][which]
             if first is None or second is None or first * second >= 0:
                 continue
@@ -143,6 +158,10 @@ def singular_crossings(model, points, rtol=DEFAULT_RTOL, tolerance=1e-12, max_bi
                     break
                 middle_basis = _aligned_basis(model, middle, low_basis, rtol)
                 middle_value = _raw_determinants(model, middle, middle_basis)[which]
+                if middle_value is None:  # ker DΦ grew: the midpoint is a C-space singularity (to the rank cut)
+                    low = high = middle
+                    low_value = high_value = 0.0
+                    break
                 if middle_value * low_value > 0:
                     low, low_basis, low_value = middle, middle_basis, middle_value
                 else:

@@ -212,6 +212,24 @@ def test_a_singular_start_or_a_singular_branch_is_no_crossing():
     assert singular_crossings(model, points) == []
 
 
+def test_a_path_through_a_parallelogram_flattening_finds_the_cspace_singularity():
+    """A parallelogram four-bar (crank 1, ground 2) flattens at J1 = ±π/2, where it can switch to the
+    antiparallelogram: a simple bifurcation of M (a C-space singularity) that the path crossed without a row;
+    the bordered Jacobian det[DΦ·diag(s); (T/s)ᵀ] changes sign there."""
+    from mechanisms import EndEffector, Joint, Mechanism
+
+    mechanism = Mechanism("parallelogram", "planar", [
+        Joint("J1", "R", ("ground", "crank"), point=(0.0, 0.0), actuated=True),
+        Joint("J2", "R", ("crank", "coupler"), point=(0.0, 1.0)),
+        Joint("J3", "R", ("coupler", "rocker"), point=(2.0, 1.0)),
+        Joint("J4", "R", ("rocker", "ground"), point=(2.0, 0.0))],
+        end_effector=EndEffector("rocker", None, "orientation"))
+    found, _ = crossings_classified(model_of(mechanism), mechanism, 20, 0.2)
+    cspace = [(kind, kinds) for _, kind, kinds in found if kind == "cspace"]
+    assert len(cspace) == 2 and all("cspace" in kinds for _, kinds in cspace)
+    assert all(kind in kinds for _, kind, kinds in found)
+
+
 def test_summary_counts_and_text():
     mechanism = entry("five-bar").mechanism(actuated="A,B,D")
     result = compare(mechanism, [home(mechanism)] * 2, labels=["one", "two"])
