@@ -2,9 +2,10 @@
 
 A comparison "along a path through singularities" needs the singular
 configurations themselves, not only points near them: between two
-consecutive points of a path where ``det(E^½ Dπ T)`` (or ``det(H^½ Df T)``)
-changes sign, with T an orthonormal tangent basis carried continuously along
-the path, the path crosses an actuator (or end-effector) singularity, which
+consecutive points of a path where ``det(E^½ Dπ T)`` (or ``det(H^½ Df T)``,
+or the bordered ``det[DΦ·diag(s); (T/s)ᵀ]``) changes sign, with T an
+orthonormal tangent basis carried continuously along the path, the path
+crosses an actuator (or end-effector, or C-space) singularity, which
 :func:`singular_crossings` locates by bisection on M.
 """
 
@@ -58,8 +59,9 @@ def path_configurations(model, point, count, step=0.05, direction=None, rtol=DEF
 
 def _aligned_basis(model, point, previous, rtol):
     """A tangent basis at `point` turned to be closest to `previous` (orthogonal Procrustes in the inner product
-    ``⟨v, w⟩_s = Σ vᵢ wᵢ / sᵢ²`` in which the bases are orthonormal: in the plain product of joint coordinates,
-    a slide's scale s = 200 outweighs the angles, and the turn could mirror the basis between two close points)."""
+    ``⟨v, w⟩_s = Σ vᵢ wᵢ / sᵢ²`` in which the bases are orthonormal: in the plain product of joint
+    coordinates, a slide's scale s = 200 outweighs the angles, and the turn could mirror the basis between two
+    close points)."""
     basis = tangent_basis(model.manifold, point, rtol=rtol)[0]
     if previous is None or basis.shape != previous.shape:
         return basis
@@ -149,6 +151,7 @@ def singular_crossings(model, points, rtol=DEFAULT_RTOL, tolerance=1e-12, max_bi
             if first is None or second is None or first * second >= 0:
                 continue
             low, high, low_basis, low_value, high_value = points[index], points[index + 1], bases[index], first, second
+            found_kind = kind
             for _ in range(max_bisections):
                 if np.linalg.norm(ambient.inverse_retract(low, high) / scales) < tolerance:
                     break
@@ -161,10 +164,12 @@ def singular_crossings(model, points, rtol=DEFAULT_RTOL, tolerance=1e-12, max_bi
                 if middle_value is None:  # ker DΦ grew: the midpoint is a C-space singularity (to the rank cut)
                     low = high = middle
                     low_value = high_value = 0.0
+                    found_kind = "cspace"
                     break
                 if middle_value * low_value > 0:
                     low, low_basis, low_value = middle, middle_basis, middle_value
                 else:
                     high, high_value = middle, middle_value
-            found.append((index, low if abs(low_value) < abs(high_value) else high, kind))
+            if found_kind == kind or (index, found_kind) not in [(item[0], item[2]) for item in found]:
+                found.append((index, low if abs(low_value) < abs(high_value) else high, found_kind))
     return found

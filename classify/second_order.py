@@ -47,12 +47,17 @@ __all__ = [
 #: diag(s) (:func:`classify.metrics.unit_rows`; independent of the actuator weights)
 SECOND_ORDER_RTOL = 1e-6
 #: residual every point of a self-motion certificate must reach on the fibre (Φ and the actuated coordinates'
-#: rows, dimensionless): near rounding, or 10 times p̄'s own ‖Φ‖ if larger (a configuration given to its
-#: closure tolerance fixes the inputs only that well: no point of a fibre over them closes better). With the
-#: continuation's 1e-10, a design within ~1e-7 of a degenerate one (a 3-RPR with parallel legs whose third leg
-#: is longer by a factor 1 + 1e-7) had a near-miss curve whose residual grows like t² (6e-11 at distance 0.11)
-#: certified as a self-motion; a true self-motion from a point that closes reaches 1e-16
+#: rows, dimensionless): near rounding, or 10 times the rounding floor of Φ where it is larger (the certificate
+#: starts from the point of M nearest p̄, reached by Gauss-Newton until ‖Φ‖ stops falling, :func:`_settled`, and
+#: follows the fibre through it: a point given to the closure tolerance 1e-9 does not loosen the cut). Far from
+#: the origin (a planar 3-RRR moved 1e5 lengths away) the fibre's rounding can exceed it, and a self-motion is
+#: then "undetermined", never certified falsely. With the continuation's
+#: 1e-10, a design within ~1e-7 of a degenerate one (a 3-RPR with parallel legs whose third leg is longer by a
+#: factor 1 + 1e-7) had a near-miss curve whose residual grows like t² (6e-11 at distance 0.11) certified as a
+#: self-motion; a true self-motion reaches 1e-16 near the origin
 SELF_MOTION_TOLERANCE = 1e-13
+#: Gauss-Newton steps of :func:`_settled` at most
+SETTLING_STEPS = 8
 
 
 @dataclass(frozen=True, eq=False)
@@ -136,6 +141,30 @@ def fibre(manifold, point, selection):
         return np.concatenate([manifold.constraint_jacobian(q), selection], axis=-2)
 
     return ImplicitManifold(ambient, constraint, jacobian, is_solution=manifold.is_solution)
+
+
+def _settled(manifold, point):
+    """`point` moved onto M by minimum-norm Gauss-Newton steps while ‖Φ‖ falls (at most :data:`SETTLING_STEPS`),
+    and the ‖Φ‖ reached: the rounding floor of Φ there. The step is of the order of the closure tolerance; the
+    self-motion certified is that of the fibre through this point of M (a point given off M has inputs that
+    may fix no fibre through a point of M, and a near-miss curve within its own residual proves nothing)."""
+    ambient = manifold.ambient
+    scales = ambient.tangent_scales
+    current = np.asarray(point, dtype=float)
+    value = manifold.constraint(current)
+    residual = float(np.linalg.norm(value))
+    for _ in range(SETTLING_STEPS):
+        if residual == 0.0:
+            break
+        step = -scales * np.linalg.lstsq(implicit.scaled_jacobian(manifold, current), value,
+                                         rcond=implicit.STEP_RCOND)[0]
+        candidate = ambient.retract(current, step)
+        candidate_value = manifold.constraint(candidate)
+        candidate_residual = float(np.linalg.norm(candidate_value))
+        if not candidate_residual < residual:
+            break
+        current, value, residual = candidate, candidate_value, candidate_residual
+    return current, residual
 
 
 def idle_slice(manifold, point, basis, neighbours, freedom_rows, idle, rtol=1e-6):
@@ -364,13 +393,14 @@ def second_order_test(manifold, point, basis, selection, rng, rtol=1e-6, scale=N
     if not len(roots):
         return SecondOrderResult("nondegenerate", forms, kernel, smallest, tolerance, None, None,
                                  "the forms Q_e have no common nonzero root on ker G")
-    along = fibre(manifold, point, selection)
-    certified = max(SELF_MOTION_TOLERANCE, 10.0 * float(np.linalg.norm(manifold.constraint(point))))
+    start, floor = _settled(manifold, point)
+    along = fibre(manifold, start, selection)
+    certified = max(SELF_MOTION_TOLERANCE, 10.0 * floor)
     for vector in roots[:max_roots]:
         root = kernel @ vector
         for step_size in (step, step / 4):
             for sign in (1.0, -1.0):
-                certificate = continue_curve(along, point, sign * root, length=length, step=step_size,
+                certificate = continue_curve(along, start, sign * root, length=length, step=step_size,
                                              tolerance=certified)
                 if certificate.reached:
                     motion = SelfMotion(certificate.direction * scales, certificate.distance,

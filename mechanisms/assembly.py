@@ -447,12 +447,14 @@ def _search(problem, rng, count, tolerance, guess_point=None):
     free, residuals = _newton(fibre, np.array(starts), tolerance)
     closed = _closed(problem, free, residuals, tolerance)
     found = [_Found(_wrapped(problem.reduced, free[i]), methods[i]) for i in np.flatnonzero(closed)]
-    # the smallest residual of the candidates that turn no loop by a half-turn: a half-turn zero is no near miss
-    # (0 when every finite candidate is one, which _no_assembly says)
+    # the smallest residual of the candidates other than the zeros of Φ that turn a loop by a half-turn (residual
+    # within √tolerance: Newton stalls near some of them): those are no near miss (0 when every finite candidate
+    # is one, which _no_assembly says); a candidate far from any zero counts whatever its rotation
     finite = np.isfinite(residuals)
-    turned = finite & ~closes(problem.mechanism, problem.embed(free), np.inf)
-    smallest = float(np.min(residuals[finite & ~turned], initial=math.inf))
-    if not np.isfinite(smallest) and turned.any():
+    half_turns = (finite & (residuals <= math.sqrt(tolerance))
+                  & ~closes(problem.mechanism, problem.embed(free), np.inf))
+    smallest = float(np.min(residuals[finite & ~half_turns], initial=math.inf))
+    if not np.isfinite(smallest) and half_turns.any():
         smallest = 0.0
     return found, smallest
 

@@ -42,7 +42,7 @@ def add_parser(commands):
                         help="also compare N configurations sampled over the assembly branches (default 0)")
     parser.add_argument("--path", type=integer, default=0, metavar="N",
                         help="also compare up to N configurations each way along a curve of M through the home, "
-                             "and the actuator and end-effector singularities the curve crosses")
+                             "and the actuator, end-effector and C-space singularities the curve crosses")
     parser.add_argument("--path-step", type=number, default=None, metavar="H",
                         help="distance between configurations along the --path (joint-coordinate units, "
                              f"default {DEFAULT_PATH_STEP})")

@@ -41,3 +41,19 @@ def test_the_degenerate_design_is_certified_with_a_residual_at_rounding():
     assert report.degeneracy == "degenerate"
     motion = report.second_order.self_motion
     assert motion.distance >= 0.1 and motion.largest_residual < 1e-13
+
+
+@pytest.mark.parametrize("stretch", [1e-7, 1e-9])
+@pytest.mark.parametrize("offset", [1e-11, 5e-10])
+def test_a_point_given_off_m_does_not_loosen_the_certificate(stretch, offset):
+    """A configuration accepted within the closure tolerance (1e-9) but off M: its own residual allowed the
+    near-miss curve (the cut was 10 ‖Φ(p̄)‖); the walk now starts from the point of M nearest it."""
+    from classify import model_of
+
+    mechanism = parallel_legs(stretch)
+    point = home(mechanism)
+    jacobian = model_of(mechanism).manifold.constraint_jacobian(point)
+    shift = np.linalg.pinv(jacobian) @ np.ones(len(jacobian))
+    point = point + offset * shift / np.linalg.norm(jacobian @ shift)
+    report = classify(mechanism, point)
+    assert report.kinds == ("actuator",) and report.second_order.self_motion is None

@@ -407,3 +407,7 @@ def test_the_smallest_residual_of_a_failed_assembly_is_no_half_turn_zero():
         assemble(mechanism, {"R4": -0.4624188365889781}, rng=np.random.default_rng(0))
     residual = float(str(refused.value).rsplit("smallest residual ", 1)[1].rstrip(")"))
     assert residual > 1e-3
+    # a lone start that turns the loop by more than a quarter-turn, far from any zero (residual 0.51), is no
+    # half-turn zero: it was said to be one
+    with pytest.raises(AssemblyError, match="smallest residual"):
+        assemble(mechanism, {"R4": -0.4624188365889781}, rng=np.random.default_rng(0), count=1)
