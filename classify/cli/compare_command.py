@@ -66,6 +66,22 @@ def _paper_relation(arguments, mechanism, point):
         raise InputError(f"--relation: {arguments.relation} does not apply here: {error}") from None
 
 
+def _check_relation_outputs(arguments):
+    """Refuse ``--outputs`` other than the paper's with a ``--relation``: the relation's x is the paper's output
+    (:data:`classify.gosselin_angeles_examples.PAPER_OUTPUTS`, else the entry's end-effector), and with other
+    outputs Park–Kim and Gosselin–Angeles would compare two problems (velocities alone cannot always tell: on
+    a mechanism of one degree of freedom any two outputs move together wherever both move)."""
+    from ..gosselin_angeles_examples import PAPER_OUTPUTS
+
+    if arguments.outputs is None or not is_entry(arguments.file):
+        return
+    paper = PAPER_OUTPUTS.get(arguments.file)
+    given = tuple(part.strip() for part in arguments.outputs.split(","))
+    if given != paper:
+        expected = f"--outputs {','.join(paper)}" if paper else "no --outputs (the end-effector)"
+        raise InputError(f"--outputs: {arguments.relation}'s outputs are the paper's: give {expected}")
+
+
 def _check_relation_variables(arguments, mechanism, model, start, coordinates):
     """Refuse a paper's relation whose inputs θ are not the mechanism's actuated coordinates, or whose outputs x
     are not the compared outputs, near the start (:func:`classify.comparison.relation_variables_mismatch`):
@@ -156,6 +172,7 @@ def run(arguments, out):
     points += list(samples)
     relation = coordinates = None
     if arguments.relation is not None:
+        _check_relation_outputs(arguments)
         relation, coordinates = _paper_relation(arguments, mechanism, start)  # the branch sign of the start
         _check_relation_variables(arguments, mechanism, model, start, coordinates)
     print(f"comparing {len(points)} configurations of {printable(mechanism.name)}", file=sys.stderr)

@@ -34,6 +34,10 @@ def _slider_crank_branch_relation(function):
     return build
 
 
+#: The joints whose coordinates are the outputs x of the paper's relations, by catalogue entry: the slider-crank's
+#: slide (eqs. 9, 12); the others' x is the entry's end-effector
+PAPER_OUTPUTS = {"slider-crank": ("slide",)}
+
 #: The paper's relations by catalogue entry: ``RELATIONS[entry][name](mechanism, point) -> (relation,
 #: coordinates)``; a branch sign (eqs. 9, 12) is that of `point`.
 RELATIONS = {
@@ -51,7 +55,7 @@ RELATIONS = {
 }
 
 __all__ = [
-    "RELATIONS",
+    "RELATIONS", "PAPER_OUTPUTS",
     "SliderCrankGeometry", "slider_crank_geometry", "slider_crank_coordinates", "slider_crank_branch",
     "eq9_relation", "eq12_relation", "eq12_matrices", "squared_relation", "squared_equation",
     "WattGeometry", "watt_geometry", "watt_coordinates", "watt_rocker_angle", "watt_factors", "watt_relation",

@@ -105,6 +105,13 @@ def test_the_branch_sign_of_a_relation_is_the_starts_along_a_path_too(capsys):
      "--relation: eq9's inputs are the paper's, not the actuated coordinates here (slide)"),
     (["compare", "slider-crank", "--configuration", "eq17_constant_branch_slider_driven", "--relation", "eq12"],
      "--relation: eq12's inputs are the paper's"),
+    # outputs other than the relation's: an internal error (more coordinates) or a false 'unexplained'
+    (["compare", "slider-crank", "--relation", "eq12", "--outputs", "slide,crank"],
+     "--outputs: eq12's outputs are the paper's: give --outputs slide"),
+    (["compare", "slider-crank", "--configuration", "fig3c_dead_centre", "--relation", "eq9", "--outputs", "pin"],
+     "--outputs: eq9's outputs are the paper's: give --outputs slide"),
+    (["compare", "planar-3rrr", "--relation", "eq44", "--outputs", "wrist1,wrist2,wrist3"],
+     "--outputs: eq44's outputs are the paper's: give no --outputs (the end-effector)"),
     (["compare", "slider-crank", "--param", "crank=3", "--param", "crank=4"], "--param crank: given twice"),
 ])
 def test_compare_input_errors_exit_2_with_one_line(arguments, fragment, capsys):
