@@ -81,12 +81,24 @@ def export_urdf(mechanism):
     origins = {mechanism.ground: np.zeros(3)}
     links = [mechanism.ground]
     actuated, retyped, loops, types = [], {}, [], []
+    # names made up here never take one the mechanism has (a mechanism read from an exported URDF has links
+    # named P_B, P_A, end_effector...): a made-up name gets "_" appended until it is free
+    taken_links, taken_joints = set(mechanism.links), {joint.name for joint in mechanism.joints}
 
-    def add_link(name):
+    def fresh(name, taken):
+        while name in taken:
+            name += "_"
+        taken.add(name)
+        return name
+
+    def add_link(name, made_up=False):
+        name = fresh(name, taken_links) if made_up else name
         ElementTree.SubElement(robot, "link", name=name)
         links.append(name)
+        return name
 
-    def add_joint(name, kind, parent, child, origin, axis=None):
+    def add_joint(name, kind, parent, child, origin, axis=None, made_up=False):
+        name = fresh(name, taken_joints) if made_up else name
         element = ElementTree.SubElement(robot, "joint", name=name, type=kind)
         ElementTree.SubElement(element, "origin", xyz=_vector(origin - origins[parent]), rpy="0 0 0")
         ElementTree.SubElement(element, "parent", link=parent)
@@ -96,6 +108,7 @@ def export_urdf(mechanism):
         if kind in ("revolute", "prismatic"):
             ElementTree.SubElement(element, "limit", lower="-1e3", upper="1e3", effort="1", velocity="1")
         origins[child] = np.asarray(origin, dtype=float)
+        return name
 
     def write_joint(joint, parent, child):
         point, axis, axes = _spatial(mechanism, joint)
@@ -108,12 +121,11 @@ def export_urdf(mechanism):
             retyped[joint.name] = "SPHERICAL"
             names = []
         else:
-            cross = f"{joint.name}_cross"
-            add_link(cross)
+            cross = add_link(f"{joint.name}_cross", made_up=True)
             first, second = (axes if joint.type == "U" else (axis, axis))
-            add_joint(f"{joint.name}_1", "revolute", parent, cross, here, first)
-            add_joint(f"{joint.name}_2", "revolute" if joint.type == "U" else "prismatic", cross, child, here, second)
-            names = [f"{joint.name}_1", f"{joint.name}_2"]
+            names = [add_joint(f"{joint.name}_1", "revolute", parent, cross, here, first, made_up=True),
+                     add_joint(f"{joint.name}_2", "revolute" if joint.type == "U" else "prismatic", cross, child,
+                               here, second, made_up=True)]
         if joint.actuated:
             actuated.extend(names)
 
@@ -143,18 +155,18 @@ def export_urdf(mechanism):
         point, _, _ = _spatial(mechanism, joint)
         here = origins[first] if point is None else np.asarray(point, dtype=float)
         if joint.type == "S":
+            sides = []
             for side, link in (("A", first), ("B", second)):
-                add_link(f"{joint.name}_{side}")
-                add_joint(f"{joint.name}_{side}_frame", "fixed", link, f"{joint.name}_{side}", here)
-            loops.append((f"{joint.name}_A", f"{joint.name}_B"))
+                frame = add_link(f"{joint.name}_{side}", made_up=True)
+                add_joint(f"{joint.name}_{side}_frame", "fixed", link, frame, here, made_up=True)
+                sides.append(frame)
+            loops.append(tuple(sides))
             types.append("3d")
             continue
-        leaf = f"{joint.name}_B"
-        add_link(leaf)
+        leaf = add_link(f"{joint.name}_B", made_up=True)
         write_joint(joint, first, leaf)
-        anchor = f"{joint.name}_A"
-        add_link(anchor)
-        add_joint(f"{anchor}_frame", "fixed", second, anchor, origins[leaf])
+        anchor = add_link(f"{joint.name}_A", made_up=True)
+        add_joint(f"{anchor}_frame", "fixed", second, anchor, origins[leaf], made_up=True)
         loops.append((leaf, anchor))
         types.append("6d")
     effector, effector_axis = None, None
@@ -162,11 +174,8 @@ def export_urdf(mechanism):
         link = mechanism.end_effector.link
         point = mechanism.end_effector.point
         here = origins[link] if point is None else np.array([*point, 0.0][:3])
-        frame = "end_effector"
-        while frame in links:  # a link of the mechanism has that name
-            frame += "_frame"
-        add_link(frame)
-        add_joint(f"{frame}_frame", "fixed", link, frame, here)
+        frame = add_link("end_effector", made_up=True)
+        add_joint(f"{frame}_frame", "fixed", link, frame, here, made_up=True)
         effector, effector_axis = (frame, mechanism.end_effector.output), mechanism.end_effector.axis
     ElementTree.indent(robot)
     text = ElementTree.tostring(robot, encoding="unicode") + "\n"

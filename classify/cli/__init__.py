@@ -95,6 +95,16 @@ def _standard_output():
     return sys.stdout
 
 
+def _silence_standard_output():
+    """Point the standard output at the null device, so that Python's flush at exit does not fail on the
+    closed pipe again (the way the Python documentation advises for SIGPIPE)."""
+    try:
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+    except (OSError, ValueError, AttributeError):  # no file descriptor (a test's stream)
+        pass
+
+
 def main(argv=None, out=None):
     """Entry point of the ``closedchain`` command; returns the exit status."""
     out = _standard_output() if out is None else out
@@ -105,6 +115,9 @@ def main(argv=None, out=None):
     except (InputError, MechanismError, ConfigurationError) as error:
         print(f"closedchain: error: {_one_line(error)}", file=sys.stderr)
         return 2
+    except BrokenPipeError:  # the reader stopped reading (`closedchain report | head`): nothing is wrong
+        _silence_standard_output()
+        return 0
     except Exception as error:  # noqa: BLE001 - the CLI must never show a traceback by default
         if os.environ.get("CLOSEDCHAIN_DEBUG"):
             traceback.print_exc()

@@ -55,3 +55,14 @@ def test_convert_json_lists_the_files_written(tmp_path, suffix, written):
     assert len(result["written"]) == written and all((tmp_path / name).exists() for name in result["written"])
     assert (result["mechanism"], result["joints"], result["loops"]) == ("five-bar", 5, 1)
     assert result["notes"] == []
+
+
+def test_a_reader_that_stops_reading_is_no_internal_error(capsys):
+    """`closedchain classify five-bar | head -1`: the write to the closed pipe raised BrokenPipeError, which the
+    command printed as an internal error (exit 1)."""
+    class ClosedPipe(io.StringIO):
+        def write(self, text):
+            raise BrokenPipeError(32, "Broken pipe")
+
+    assert main(["classify", "five-bar"], out=ClosedPipe()) == 0
+    assert "internal error" not in capsys.readouterr().err
