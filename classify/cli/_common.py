@@ -329,6 +329,7 @@ def _source(arguments):
     if arguments.param:
         raise InputError(f"--param: applies to catalogue entries, not to the file {arguments.file}")
     document = read(path)
+    arguments.document = document  # its named configurations and description, for `convert`
     if arguments.configuration is None:
         return document.mechanism, {}
     if arguments.configuration not in document.configurations:

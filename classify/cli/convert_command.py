@@ -7,6 +7,9 @@ home is the assembled configuration and whose ``description`` records the import
 with its closures file beside it (same stem, ``.yaml``; :mod:`mechanisms.export`), which the URDF importer and
 Pinocchio read.
 
+A mechanism file keeps its home, every named configuration and its description (``--configuration`` is
+refused for it); a file that is an input of the conversion is never written over.
+
 Prints the import's notes and one line per file written (``--format text``, the default), or a JSON object
 (``--format json``): ``{"mechanism", "written": [paths], "joints", "loops", "notes"}``, with ``"actuated"`` (the
 closures file's actuated joints) for a URDF.
@@ -45,6 +48,12 @@ def run(arguments, out):
         raise InputError(f"--write: expected a .yaml, .yml, .json or .urdf file, got {arguments.write}")
     mechanism, named = source(arguments)
     imported = getattr(arguments, "imported", None)
+    source_files = [Path(arguments.file)] + ([Path(arguments.closures)] if getattr(arguments, "closures", None) else [])
+    written = [target] + ([target.with_suffix(".yaml")] if target.suffix == ".urdf" else [])
+    for path in written:
+        if any(path.exists() and other.exists() and path.resolve() == other.resolve() for other in source_files):
+            raise InputError(f"--write: {printable(str(path))} is an input of this conversion: it would be "
+                             f"overwritten (write elsewhere)")
     if target.suffix == ".urdf":
         from mechanisms.export import write_urdf
 
@@ -63,9 +72,16 @@ def run(arguments, out):
         out.write(f"wrote {printable(str(target))} and its closures {printable(str(closures_path))}: "
                   f"{len(exported.closures.loops)} loop(s), {len(exported.closures.actuated)} actuated joint(s)\n")
         return
+    document = getattr(arguments, "document", None)
+    configurations = {"named": named} if named else None
     description = imported.description if imported is not None else None
+    if document is not None:  # a mechanism file: its home, named configurations and description, all kept
+        if arguments.configuration is not None:
+            raise InputError("--configuration: converting a mechanism file keeps its home and every named "
+                             "configuration (name one when classifying the file written)")
+        configurations, description = dict(document.configurations) or None, document.description
     try:
-        save(mechanism, target, configurations={"named": named} if named else None, description=description)
+        save(mechanism, target, configurations=configurations, description=description)
     except MechanismError as error:
         raise InputError(f"--write: {error}") from None
     notes = list(imported.notes) if imported is not None else []

@@ -107,3 +107,31 @@ def test_the_closures_end_effector_key_gives_the_robot_an_end_effector(tmp_path,
     result = json.loads(out)
     assert (result["end_effector"]["rank"], result["end_effector"]["expected_rank"]) == (2, 2)
     assert result["kinds"] == []
+
+
+def test_converting_a_mechanism_file_keeps_its_configurations_and_refuses_to_overwrite_it(tmp_path, capsys):
+    """`convert FILE.yaml --write OUT.json` dropped every named configuration of the file (and with
+    --configuration kept the old home with one configuration renamed 'named'); `--write FILE.urdf` wrote its
+    closures file over FILE.yaml, the input."""
+    import shutil
+    from pathlib import Path
+
+    from mechanisms.io import read
+
+    source = tmp_path / "five_bar.yaml"
+    shutil.copy(Path(__file__).resolve().parents[2] / "examples" / "five_bar.yaml", source)
+    original = read(source)
+    assert len(original.configurations) > 1
+    target = tmp_path / "five_bar.json"
+    status, _, err = run(["convert", str(source), "--write", str(target)], capsys)
+    assert status == 0, err
+    converted = read(target)
+    assert converted.configurations == original.configurations and converted.description == original.description
+    name = next(iter(original.configurations))
+    status, _, err = run(["convert", str(source), "--configuration", name, "--write", str(target)], capsys)
+    assert status == 2 and "--configuration: converting a mechanism file keeps" in err
+    text = source.read_text()
+    for written in ("five_bar.urdf", "five_bar.yaml"):
+        status, _, err = run(["convert", str(source), "--write", str(tmp_path / written)], capsys)
+        assert status == 2 and "is an input of this conversion" in err and len(err.strip().splitlines()) == 1
+    assert source.read_text() == text
