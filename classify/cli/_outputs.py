@@ -108,22 +108,39 @@ def json_text(value):
     return json.dumps(value, indent=2, ensure_ascii=False, allow_nan=False)
 
 
-def write_rows(path, rows, document=None, option="--out"):
+def write_rows(path, rows, document=None, option="--out", mechanism=None):
     """Write JSON-ready rows to a ``.jsonl``, ``.json`` or ``.csv`` file (``.json``: `document`, default the list
-    of rows)."""
+    of rows). In CSV, with `mechanism`, the ``displacements`` of a joint of several coordinates are columns named
+    by its coordinates (``displacements_S1[x]``, as a batch file names them), not by their index."""
     kind = output_format(path, option)
     if kind == "jsonl":
         text = "".join(json.dumps(row, ensure_ascii=False, allow_nan=False) + "\n" for row in rows)
     elif kind == "json":
         text = json_text(rows if document is None else document) + "\n"
     elif kind == "csv":
-        text = csv_text(rows)
+        text = csv_text(rows if mechanism is None else [_coordinate_displacements(row, mechanism) for row in rows])
     else:
         raise ValueError(f"rows are written as JSON lines, JSON or CSV, not {kind}")
     try:
         write_text_file(path, text)
     except MechanismError as error:
         raise InputError(f"{option}: {error}") from None
+
+
+def _coordinate_displacements(row, mechanism):
+    """`row` with its ``displacements`` keyed by coordinate names (a joint of several coordinates spread)."""
+    from mechanisms.joints import joint_coordinate_names
+
+    displacements = row.get("displacements")
+    if not isinstance(displacements, dict):
+        return row
+    named = {}
+    for joint, value in displacements.items():
+        if isinstance(value, list):
+            named.update(zip(joint_coordinate_names(mechanism.joint(joint)), value))
+        else:
+            named[joint] = value
+    return dict(row, displacements=named)
 
 
 def _rank_cell(row, kind):

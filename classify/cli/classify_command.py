@@ -11,7 +11,8 @@ the loops is refused, naming its row. Output: JSON
 lines (one object per configuration: ``row``, then :meth:`classify.Classifications.rows`, then the
 ``displacements`` of the configuration classified, and ``projection_distance`` with ``--project``) on stdout, or
 a compact table (``--format text``), or ``--out FILE``: ``.jsonl``, ``.json`` (a list of the same objects),
-``.csv`` (flattened) or ``.npz`` (:meth:`classify.Classifications.arrays` with ``row``, ``points``,
+``.csv`` (flattened; a joint's displacements in columns named by its coordinates, ``displacements_S1[x]``,
+so that they read back as a batch file) or ``.npz`` (:meth:`classify.Classifications.arrays` with ``row``, ``points``,
 ``displacements``, ``coordinate_names``), with a one-line summary on stdout.
 
 ``--survey FILE``: the survey of M comes from a cache file when the file exists and was made for this mechanism
@@ -242,7 +243,7 @@ def _run_batch(arguments, out):
         return
     rows = _rows(result, joint_displacements(mechanism, displacements_matrix), distance)
     if file_format is not None:
-        outputs.write_rows(arguments.out, rows)
+        outputs.write_rows(arguments.out, rows, mechanism=mechanism)
         out.write(f"{summary}; written to {printable(arguments.out)}\n")
     elif arguments.format == "text":
         table = outputs.result_table(("row",), [((str(row["row"]),), row) for row in rows])

@@ -270,5 +270,5 @@ def run(arguments, out):
     if file_format is None:
         out.write(outputs.json_text(document) + "\n")
         return
-    outputs.write_rows(arguments.out, entries, document)
+    outputs.write_rows(arguments.out, entries, document, mechanism=mechanism)
     out.write(f"{summary_text}; written to {printable(arguments.out)}\n")

@@ -459,3 +459,30 @@ def test_batch_modules_import_nothing_heavy_at_start_up():
             "'classify.cli._batch_io') if name in sys.modules))")
     result = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert result.stdout.strip() == "[]"
+
+
+def test_the_displacements_of_a_csv_out_file_are_a_batch_file_again(tmp_path, capsys):
+    """The Gough–Stewart's S joints: the CSV named their columns by index (``displacements_S1[0]``), which a
+    batch file does not take (its coordinates are ``S1[x]``…): the file did not read back."""
+    batch_path = tmp_path / "batch.jsonl"
+    batch_path.write_text('{"P1": 0.01, "P2": -0.02}\n{"P3": 0.015}\n')
+    out_path = tmp_path / "out.csv"
+    status, _, err = run(["classify", "gough-stewart", "--batch", str(batch_path), "--project", "--out",
+                          str(out_path)], capsys)
+    assert status == 0, err
+    table = list(csv.DictReader(io.StringIO(out_path.read_text())))
+    columns = [name for name in table[0] if name.startswith("displacements_")]
+    assert "displacements_S1[x]" in columns
+    again = tmp_path / "again.csv"
+    with again.open("w", newline="") as stream:
+        writer = csv.writer(stream)
+        writer.writerow([name[len("displacements_"):] for name in columns])
+        writer.writerows([[line[name] for name in columns] for line in table])
+    status, _, err = run(["classify", "gough-stewart", "--batch", str(again), "--out", str(tmp_path / "b.csv")],
+                         capsys)
+    assert status == 0, err
+    second = list(csv.DictReader(io.StringIO((tmp_path / "b.csv").read_text())))
+    assert [line["kinds"] for line in second] == [line["kinds"] for line in table]
+    for first, back in zip(table, second):
+        for name in columns:
+            assert float(back[name]) == pytest.approx(float(first[name]), abs=1e-12)
