@@ -47,7 +47,8 @@ __all__ = [
 #: diag(s) (:func:`classify.metrics.unit_rows`; independent of the actuator weights)
 SECOND_ORDER_RTOL = 1e-6
 #: residual every point of a self-motion certificate must reach on the fibre (Φ and the actuated coordinates'
-#: rows, dimensionless): near rounding, or 10 times the rounding floor of Φ where it is larger (the certificate
+#: rows, dimensionless), times √(its rows) (rounding adds up over the rows: the Gough-Stewart's 36 reach 6e-14):
+#: near rounding, or 10 times the rounding floor of Φ where it is larger (the certificate
 #: starts from the point of M nearest p̄, reached by Gauss-Newton until ‖Φ‖ stops falling, :func:`_settled`, and
 #: follows the fibre through it: a point given to the closure tolerance 1e-9 does not loosen the cut). Far from
 #: the origin (a planar 3-RRR moved 1e5 lengths away) the fibre's rounding can exceed it, and a self-motion is
@@ -395,7 +396,8 @@ def second_order_test(manifold, point, basis, selection, rng, rtol=1e-6, scale=N
                                  "the forms Q_e have no common nonzero root on ker G")
     start, floor = _settled(manifold, point)
     along = fibre(manifold, start, selection)
-    certified = max(SELF_MOTION_TOLERANCE, 10.0 * floor)
+    rows = np.size(along.constraint(start))
+    certified = max(SELF_MOTION_TOLERANCE * np.sqrt(rows), 10.0 * floor)
     for vector in roots[:max_roots]:
         root = kernel @ vector
         for step_size in (step, step / 4):
