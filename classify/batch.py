@@ -662,13 +662,19 @@ def _regular_columns(model, points, basis, constraint_rank, survey, rtol, column
         end_effector_ranks, end_effector_margins = _decisions(singular_values(end_effector_block),
                                                               end_effector_tolerance)
         unsure |= _unsure(end_effector_margins, end_effector_tolerance, end_effector_scale * error)
+
+    def stacked(selection=slice(None)):
+        """The actuator rows over their scale above the end-effector rows over theirs (classify.survey.stacked),
+        at the configurations `selection`: the map whose kernel is the idle freedoms."""
+        return np.concatenate([
+            actuator_block[selection] / max(actuator_scale, 1e-300),
+            end_effector_block[selection] / np.maximum(end_effector_scale[selection], 1e-300)[:, None, None]],
+            axis=1)
+
     raised = constraint_rank > survey.constraint_rank
     if n and (raised or survey.joint_rank < dof):  # else the stacked rank cannot raise the survey's
-        stacked = np.concatenate([
-            actuator_block / max(actuator_scale, 1e-300),
-            end_effector_block / np.maximum(end_effector_scale, 1e-300)[:, None, None]], axis=1)
         joint_tolerance = max(rtol, DEFAULT_ATOL)  # reference scale 1
-        joint_ranks, joint_margins = _decisions(singular_values(stacked), joint_tolerance)
+        joint_ranks, joint_margins = _decisions(singular_values(stacked()), joint_tolerance)
         # the decision only (these values are not reported); the stacked rows have norms at most 1
         unsure |= _unsure(joint_margins, joint_tolerance, 2.0 * error, reported=False)
     elif n:
@@ -708,14 +714,10 @@ def _regular_columns(model, points, basis, constraint_rank, survey, rtol, column
     moves = dof - idle
     for kept in np.unique(moves[(moves > 0) & (actuator_ranks == moves)]):
         definite = np.flatnonzero((moves == kept) & (actuator_ranks == kept))
-        moving = basis[definite]
+        motions = basis[definite]
         if kept < dof:
-            stacked_rows = np.concatenate([
-                actuator_block[definite] / max(actuator_scale, 1e-300),
-                end_effector_block[definite] / np.maximum(end_effector_scale[definite], 1e-300)[:, None, None]],
-                axis=1)
-            moving = moving @ moving_directions(stacked_rows, int(kept))
-        values = proper_values(model.actuators @ moving, end_effector_jacobian[definite] @ moving,
+            motions = motions @ moving_directions(stacked(definite), int(kept))
+        values = proper_values(model.actuators @ motions, end_effector_jacobian[definite] @ motions,
                                model.end_effector_metric, min(n, int(kept)))
         vanishing = end_effector_ranks[definite] < min(n, int(kept))
         smallest = values[:, -1]

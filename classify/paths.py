@@ -70,12 +70,13 @@ def _aligned_basis(model, point, previous, rtol):
     return basis @ left @ right
 
 
-def _raw_determinants(model, point, basis):
+def _raw_determinants(model, point, basis, jacobian=None):
     """``(det(E^½ Dπ T), det(H^½ Df T), det[DΦ·diag(s); (T/s)ᵀ])``, each None where the matrix is not square.
 
     The third is the classical test function of branch points in continuation (the Jacobian bordered by the
     carried tangent basis): it changes sign where the path crosses a simple bifurcation of M, a C-space
-    singularity (a parallelogram flattening into an antiparallelogram).
+    singularity (a parallelogram flattening into an antiparallelogram). `jacobian`: DΦ·diag(s) at `point`,
+    if the caller has it.
     """
     actuator = model.actuators @ basis
     values = [np.linalg.det(actuator) if actuator.shape[0] == actuator.shape[1] else None, None, None]
@@ -83,7 +84,8 @@ def _raw_determinants(model, point, basis):
         output = metric_root(model.end_effector_metric) @ model.end_effector_jacobian(point) @ basis
         values[1] = np.linalg.det(output) if output.shape[0] == output.shape[1] else None
     scales = model.manifold.ambient.tangent_scales
-    bordered = np.vstack([scaled_jacobian(model.manifold, point), (basis / scales[:, None]).T])
+    jacobian = scaled_jacobian(model.manifold, point) if jacobian is None else jacobian
+    bordered = np.vstack([jacobian, (basis / scales[:, None]).T])
     values[2] = np.linalg.det(bordered) if bordered.shape[0] == bordered.shape[1] else None
     return values
 
@@ -93,12 +95,12 @@ def _determinants(model, point, basis, rtol):
     (:func:`classify.survey.decision_blocks`) finds the map singular: only the signs at regular points
     bracket a crossing (at a singular point, or along a branch singular throughout, the sign of a determinant
     that is zero but for rounding means nothing)."""
-    values = _raw_determinants(model, point, basis)
+    jacobian = scaled_jacobian(model.manifold, point)
+    values = _raw_determinants(model, point, basis, jacobian)
     blocks = decision_blocks(model, point, basis)
     for which, (block, scale) in enumerate((blocks[:2], blocks[2:])):
         if values[which] is not None and numerical_rank(block, rtol=rtol, scale=scale).rank < len(block):
             values[which] = None
-    jacobian = scaled_jacobian(model.manifold, point)
     if values[2] is not None and numerical_rank(jacobian, rtol=rtol).rank < len(jacobian):
         values[2] = None
     return values

@@ -66,18 +66,17 @@ def _paper_relation(arguments, mechanism, point):
         raise InputError(f"--relation: {arguments.relation} does not apply here: {error}") from None
 
 
-def _check_relation_outputs(arguments):
+def _check_relation_outputs(arguments, outputs):
     """Refuse ``--outputs`` other than the paper's with a ``--relation``: the relation's x is the paper's output
     (:data:`classify.gosselin_angeles_examples.PAPER_OUTPUTS`, else the entry's end-effector), and with other
     outputs Park–Kim and Gosselin–Angeles would compare two problems (velocities alone cannot always tell: on
     a mechanism of one degree of freedom any two outputs move together wherever both move)."""
     from ..gosselin_angeles_examples import PAPER_OUTPUTS
 
-    if arguments.outputs is None or not is_entry(arguments.file):
+    if outputs is None or not is_entry(arguments.file):
         return
     paper = PAPER_OUTPUTS.get(arguments.file)
-    given = tuple(part.strip() for part in arguments.outputs.split(","))
-    if given != paper:
+    if tuple(outputs) != paper:
         expected = f"--outputs {','.join(paper)}" if paper else "no --outputs (the end-effector)"
         raise InputError(f"--outputs: {arguments.relation}'s outputs are the paper's: give {expected}")
 
@@ -145,7 +144,7 @@ def run(arguments, out):
     mechanism, named = source(arguments)
     if arguments.inputs is not None:
         mechanism = actuate(mechanism, joint_list(arguments.inputs, "--inputs"), where="--inputs")
-    output_names = None
+    output_names = outputs = None
     if arguments.outputs is not None:
         outputs = joint_list(arguments.outputs, "--outputs")
         model = joint_output_model(mechanism, outputs, where="--outputs")
@@ -172,7 +171,7 @@ def run(arguments, out):
     points += list(samples)
     relation = coordinates = None
     if arguments.relation is not None:
-        _check_relation_outputs(arguments)
+        _check_relation_outputs(arguments, outputs)
         relation, coordinates = _paper_relation(arguments, mechanism, start)  # the branch sign of the start
         _check_relation_variables(arguments, mechanism, model, start, coordinates)
     print(f"comparing {len(points)} configurations of {printable(mechanism.name)}", file=sys.stderr)
