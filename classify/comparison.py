@@ -94,6 +94,16 @@ def _near_cut(decision, factor=100.0):
     return bool(np.any((values > cut / factor) & (values < cut * factor)))
 
 
+def _lost_to_cspace(report, inputs):
+    """Whether `inputs` exceed the freedoms at a C-space singularity only because it took them.
+
+    A four-bar fully stretched is a point of M (dof 0) where DΦ loses a rank: its one crank is not
+    redundant, its freedom is lost to the singularity. The freedoms of the mechanism wherever DΦ has its
+    expected rank are k − (expected rank of DΦ).
+    """
+    return "cspace" in report.kinds and inputs <= report.ambient_dimension - report.cspace.expected_rank
+
+
 def correspondence(report, result, consistent=True):
     """Whether a Park–Kim report and a G–A classification correspond, and why not.
 
@@ -117,7 +127,7 @@ def correspondence(report, result, consistent=True):
     if not result.defined:
         if result.undefined in ("not_finite", "not_differentiable"):
             reason = "not_differentiable"
-        elif result.n > report.dof:
+        elif result.n > report.dof and not _lost_to_cspace(report, result.n):
             reason = "redundant_actuation"
         elif result.undefined == "not_square":
             reason = "unequal_dimensions"

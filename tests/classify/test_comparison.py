@@ -69,6 +69,18 @@ def test_cspace_singularity():
     assert expected_kinds(result.rows[0].park_kim) == ("I", "II", "III")
 
 
+def test_a_crank_of_a_stretched_four_bar_is_lost_to_the_cspace_singularity_not_redundant():
+    """A four-bar fully stretched (1 + 1 + 1 = 3) is a point of M, dof 0: its one crank is not a redundant
+    actuator (the four-bar has k − 3 = 1 freedom wherever DΦ has its rank 3); G–A is undefined because of
+    the C-space singularity (it said ``redundant_actuation``)."""
+    from test_flexes import stretched_four_bar
+
+    mechanism = stretched_four_bar()
+    result = compare(joint_output_model(mechanism, ["J3"]), [home(mechanism)])
+    assert result.rows[0].park_kim.dof == 0
+    assert reasons_of(result) == {"cspace_singularity"}
+
+
 def test_stationary_motion():
     """G–A eq. 84: a Gough–Stewart leg of zero length turns freely, moving neither inputs nor outputs."""
     mechanism = entry("gough-stewart").mechanism("eq84_leg1_zero_length")
