@@ -114,8 +114,8 @@ def _path_rows(model, start, count, step, start_label="home"):
     for index, (point, step) in enumerate(zip(path, steps)):
         labels.append(start_label if step == 0 else f"path{step:+d}")
         points.append(point)
-        for crossing, kind in crossings.get(index, []):
-            labels.append(f"crossing ({kind.replace('_', '-')})")
+        for crossing, kind in crossings.get(index, []):  # between this point and the next, named by their steps
+            labels.append(f"crossing {step:+d}…{steps[index + 1]:+d} ({kind.replace('_', '-')})")
             points.append(crossing)
     return labels, points
 

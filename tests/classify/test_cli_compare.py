@@ -167,3 +167,19 @@ def test_a_path_that_cannot_leave_its_start_is_said_to(capsys):
     assert status == 0, err
     assert len(json.loads(out)["configurations"]) == 1
     assert "--path: M could not be continued from fig1a_collinear" in err
+
+
+def test_every_crossing_of_a_path_has_its_own_label(capsys):
+    """Along the slider-crank's path the two actuator crossings (and the two end-effector ones) were all
+    labelled 'crossing (actuator)': a JSON reader could not tell them apart. Each is named by the steps
+    of the path it lies between."""
+    status, out, err = run(["compare", "slider-crank", "--outputs", "slide", "--path", "200", "--path-step", "0.1",
+                            "--format", "json"], capsys)
+    assert status == 0, err
+    labels = [row["configuration"] for row in json.loads(out)["configurations"]]
+    crossings = [label for label in labels if label.startswith("crossing")]
+    assert len(crossings) == 4 and len(set(labels)) == len(labels)
+    for label in crossings:
+        before, after = label.split()[1].split("…")
+        assert int(after) == int(before) + 1
+        assert labels.index(label) == labels.index(f"path{before}" if before != "+0" else "home") + 1
