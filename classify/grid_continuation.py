@@ -37,8 +37,10 @@ lower rank than DΦ·s, as at an actuator singularity when the grid is over
 the actuated coordinates (Chablat, Wenger & Angeles 1998 eq. 9: the
 five-bar's distal links aligned) — the first continuation step has no
 unique predictor and can reach nothing. When no grid point left is reached
-from the start, the remaining ones are started (nearest first, as above)
-from a regular neighbour on M instead (:func:`regular_start`): a step of
+from the start, the remaining ones (those tried from the start and missed
+included: the map must not depend on which points the grid's resolution
+let the start try) are started (nearest first, as above) from a regular
+neighbour on M instead (:func:`regular_start`): a step of
 0.05, 0.1 or 0.2 (dimensionless, :data:`NEIGHBOUR_STEPS`) from the start
 along each tangent direction of M (both ways), corrected onto M, the first
 size at which one is regular, and of those the best conditioned. A small
@@ -526,6 +528,7 @@ def assemble_grid(mechanism, start, targets, shape, held, bar=None, with_start=F
                 distance = np.linalg.norm(ambient.inverse_retract(start, targets)[:, held]
                                           / ambient.tangent_scales[held], axis=-1)
                 started = reached.copy()
+                tried[~reached] = False  # a try from the singular start is no try from its neighbour
                 continue
         if seed is None:
             break

@@ -148,13 +148,13 @@ def test_singular_start_and_assembly_branches_in_the_text():
 
 def test_a_sparse_grid_suggests_a_finer_one_or_more_branches():
     """The degenerate five-bar of Chablat, Wenger & Angeles 1998 Fig. 6a (base = proximal + distal): its
-    16 × 16 grid over a turn of each actuator reaches 9 points on the start's assembly branch (18 × 18: 100), so
-    the text says how to seed more; a dense enough grid says nothing."""
-    grid = ["--grid", "A=-3.14159:3.14159:16", "B=-3.14159:3.14159:16"]
+    6 × 6 grid over a turn of each actuator reaches 3 points on the start's assembly branch (16 × 16: 80,
+    18 × 18: 100), so the text says how to seed more; a dense enough grid says nothing."""
+    grid = ["--grid", "A=-3.14159:3.14159:6", "B=-3.14159:3.14159:6"]
     status, out, err = run(["loci", "five-bar", "--configuration", "fig6a_distal_aligned", *grid,
                             "--kinds", "actuator"])
     assert status == 0, err
-    assert "9 of 256 points reached" in out and "a finer --grid or --branches 2 may seed more loci" in out
+    assert "3 of 36 points reached" in out and "a finer --grid or --branches 2 may seed more loci" in out
     status, out, err = run(["loci", "five-bar", "--configuration", "fig6a_distal_aligned", "--kinds", "actuator"])
     assert status == 0, err
     assert "points reached" in out and "may seed more loci" not in out

@@ -368,6 +368,20 @@ def test_map_from_an_actuator_singular_start_reaches_the_grid():
     assert status == 0 and json.loads(out)["start"] is None
 
 
+def test_from_a_singular_start_a_grid_point_is_reached_whatever_the_grid_resolution():
+    """Gough–Stewart at Fichter's turned singularity (actuator, a fold of leg P1): a grid point tried from the
+    singular start was never tried again from its regular neighbour, so P1 = −0.05 was unreachable on a
+    3-point grid and reached on an 11-point one. The maps now agree where the grids share points."""
+    pictures = []
+    for count in (3, 11):
+        status, out, err = run(["map", "gough-stewart", "--configuration", "fichter_rotated_plus_90",
+                                "--grid", f"P1=-0.05:0.05:{count}", "--format", "json"])
+        assert status == 0, err
+        pictures.append([point["reachable"] for point in json.loads(out)["points"]])
+    coarse, fine = pictures
+    assert coarse == [fine[0], fine[5], fine[10]] == [True, True, False]
+
+
 def test_project_starts_from_a_named_configuration_that_does_not_close(tmp_path):
     """With --project every grid point is projected, so the start need not close (it was refused, with advice
     to use --project)."""
