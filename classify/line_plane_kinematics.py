@@ -23,9 +23,9 @@ Three routes, which the tests hold against each other:
    gives pₓ, p_y, u, v and two (p_z, w) of opposite signs (the mirror images
    in the base plane): 8, 6 or 4 assembly modes for the quartic, cubic and
    quadratic families, complex ones included. The coefficients above the
-   family's degree (:func:`classify.line_plane.family`) are dropped (they
+   family's degree (:func:`classify.line_plane_pencil.family`) are dropped (they
    are rounding). Computed on the normalised design
-   (:func:`classify.line_plane.normalised`), then mapped back.
+   (:func:`classify.line_plane_design.normalised`), then mapped back.
 
    A mode is *real* when the imaginary parts of p (over L) and i are at most
    :data:`REAL_TOLERANCE`; real modes are then polished by Newton's method on
@@ -262,7 +262,7 @@ def assembly_modes(design, lengths, rtol=None):
     design : LinePlaneDesign
     lengths : array_like, shape=[5]
     rtol : float, optional
-        Family cut (:func:`classify.line_plane.family`); its default when None.
+        Family cut (:func:`classify.line_plane_pencil.family`); its default when None.
 
     Returns
     -------

@@ -5,7 +5,7 @@
 The design comes from ``--base`` and ``--platform`` (five base attachments
 (xᵢ, yᵢ) in the plane Π and five coordinates zᵢ along the platform line Λ),
 or from a 5-SPU mechanism file or the catalogue entry ``5-spu`` (with
-``--param``/``--configuration``; :func:`classify.line_plane.design_from_mechanism`),
+``--param``/``--configuration``; :func:`classify.line_plane_files.design_from_mechanism`),
 which also gives the home pose and its singularity reading.
 
 Output (``--format json``): ``design``; ``family`` (quartic, cubic,
@@ -14,7 +14,7 @@ quadratic, architecturally singular) with ``family_margins`` and ``rtol``;
 largest magnitude: they are defined up to a factor); ``B`` (16) or null at
 infinity; ``B_inf`` (15) as line coefficients (a, b, c), a² + b² = 1, or
 null at infinity; ``Lambda_plus`` (23) or null
-(:func:`classify.line_plane.lambda_plus`: the copy on the side of B∞ of the
+(:func:`classify.line_plane_pencil.lambda_plus`: the copy on the side of B∞ of the
 base attachments' centroid); ``b_lines`` (the B-line of each leg, (a, b, c)
 normalised likewise, null at infinity). For an architecturally singular
 design all Cⱼ vanish: ``cofactors``, ``B``, ``B_inf``, ``Lambda_plus`` and
@@ -242,9 +242,9 @@ def run(arguments, out):
         position, direction = pose
         reading = singularity_reading(design, position, direction)
         result["pose"] = {"p": position.tolist(), "i": direction.tolist()}
+        intersection = None if reading.intersection is None else reading.intersection.tolist()
         result["singularity"] = {"singular": reading.singular, "margin": reading.margin,
-                                 "parallel": reading.parallel,
-                                 "intersection": None if reading.intersection is None else reading.intersection.tolist(),
+                                 "parallel": reading.parallel, "intersection": intersection,
                                  "z": reading.z, "distance": reading.distance}
     if arguments.legs is not None:
         _modes(design, arguments, result)

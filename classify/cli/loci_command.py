@@ -17,7 +17,7 @@ loci are points on them. Every point reported is confirmed singular of its
 kind by the classification; C-space singularities (branch points) are
 points, also searched for from where σ_r, the r-th singular value of DΦ (r
 its rank at regular points), is locally smallest (1 and 2 dof,
-:func:`classify.loci.search_cspace`).
+:func:`classify.loci_search.search_cspace`).
 
 ``--coordinates``: what the loci are shown in — joint coordinates (comma
 separated, as ``--at`` names them) or ``end-effector`` (its point). Default
@@ -34,7 +34,7 @@ section coordinate's value, a displacement from home), and the coverage
 a whole branch of M along which the kind's sign function vanishes
 identically, and the coverage's ``"whole_branch": [{"kind", "branch",
 "points", "largest", "tolerance"}]`` gives the largest magnitude of the sign
-function along it (:func:`classify.loci.sign_magnitudes`) against the
+function along it (:func:`classify.loci_signs.sign_magnitudes`) against the
 tolerance. Each configuration is given as joint displacements
 from the mechanism's home exactly as ``--at`` takes them, so
 ``closedchain classify NAME --at '<one of them>'`` reproduces its verdict.
@@ -162,7 +162,7 @@ def _piece(mechanism, piece, coordinates):
 
 
 #: below this share of the grid reached on the start's assembly branch, the text suggests a finer grid or more
-#: branches (a degenerate five-bar's 16 × 16 grid over a turn of each actuator reaches 9 points, its 18 × 18 one 100)
+#: branches (a degenerate five-bar's 6 × 6 grid over a turn of each actuator reaches 3 points, its 16 × 16 one 80)
 SPARSE_GRID = 0.1
 
 

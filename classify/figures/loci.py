@@ -69,7 +69,7 @@ def _broken(values, angle_columns):
 def _angle_columns(mechanism, coordinates):
     """Which shown columns are wrapped angles: the revolute joint coordinates among `coordinates`; none for
     the end-effector's coordinates (``coordinates`` a string), which are not wrapped."""
-    from ..loci import _is_angle
+    from ..loci_coordinates import _is_angle
 
     if isinstance(coordinates, str):
         return np.zeros(0, dtype=bool)
@@ -153,7 +153,7 @@ def draw_loci(mechanism, loci, coordinates, axes=None, title=None):
     mechanism : Mechanism
     loci : Loci
     coordinates : sequence of int or "end-effector"
-        As :func:`classify.loci.locus_coordinates`.
+        As :func:`classify.loci_coordinates.locus_coordinates`.
     axes : matplotlib Axes, optional
     title : str, optional
 

@@ -12,7 +12,7 @@ The catalogue's ``5-spu`` (its design: base (0, 0), (2, 1), (−1, 2),
 (1.5, −1.5), (−2, −1), platform z = 0, 1, −0.5, 0.75, −1 — quadratic,
 zᵢ = xᵢ/2, eq. 26) at ``regular`` and
 at ``eq33_second_factor``, classified by :func:`classify.classify` and read
-by :func:`classify.line_plane.singularity_reading`. The paper's Fig. 5 poses
+by :func:`classify.line_plane_singularities.singularity_reading`. The paper's Fig. 5 poses
 (p = (5, 8, 13), i = (1/3, −2/3, −2/3) and p = (7√6 − 7, 4, 14)) belong to a
 design the text does not give, so they are not reproduced.
 

@@ -13,10 +13,10 @@ left to right, designs above and B-surfaces below).
 Designs: a quartic one (that of :doc:`/line_plane`); a cubic one built as
 in Section IV-B (zᵢ random, B-lines parallel to the y axis at
 x = −(C₁z + C₆)/(C₄z + C₂), turned); the catalogue's ``5-spu``, quadratic:
-zᵢ = δxᵢ with δ = 1/2 (eq. 26). :func:`classify.line_plane.family` names
+zᵢ = δxᵢ with δ = 1/2 (eq. 26). :func:`classify.line_plane_pencil.family` names
 each family with its margin; :func:`classify.figures.line_plane.draw_b_lines`
 draws the B-lines; the B-surfaces are drawn here with :mod:`matplotlib` from
-:func:`classify.line_plane.b_line`.
+:func:`classify.line_plane_pencil.b_line`.
 """
 
 # %%

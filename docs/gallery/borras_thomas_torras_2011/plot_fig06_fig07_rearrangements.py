@@ -10,8 +10,8 @@ multiple spherical joints; an uncoupled manipulator).
 
 On a quartic design (that of :doc:`/line_plane`; the paper's designs of
 Figs. 6-7 are not given in its text): leg 3's base attachment slides along
-its B-line (:func:`classify.line_plane.move_base`), then is moved onto B, and
-its platform attachment is moved along Λ (:func:`classify.line_plane.move_platform`),
+its B-line (:func:`classify.line_plane_rearrangements.move_base`), then is moved onto B, and
+its platform attachment is moved along Λ (:func:`classify.line_plane_rearrangements.move_platform`),
 as in Figs. 6-7; :func:`classify.figures.line_plane.draw_rearrangement` draws
 the B-lines before and after and a slice of both loci (fixed i and p_z: a
 line in (pₓ, p_y)). Printed: the locus slices before and after, which

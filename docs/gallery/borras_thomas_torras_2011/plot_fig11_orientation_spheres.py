@@ -11,7 +11,7 @@ origin of the (pₓ, p_z) plane, the sphere of orientations projected along v
 colours are the four connected components of the non-singular C-space.
 
 Here the colours come from the package: the sign of w and the sign of the
-singularity polynomial (17) (:func:`classify.line_plane.singularity_polynomial`)
+singularity polynomial (17) (:func:`classify.line_plane_singularities.singularity_polynomial`)
 of the quadratic design zᵢ = xᵢ (δ = 1) on the catalogue's base. Printed: how
 far the polynomial is from the closed form −δ²wF[δwpₓ − (δu − 1)p_z] (33) on
 the disks, F the determinant (28).
