@@ -92,7 +92,7 @@ def classify(mechanism, point, survey=None, rng=None, rtol=DEFAULT_RTOL, length_
     point = np.asarray(point, dtype=float)
     manifold = model.manifold
     loop_rows = manifold.constraint(point)
-    residual = float(np.linalg.norm(loop_rows))
+    residual = float(np.linalg.norm(np.atleast_2d(loop_rows), axis=-1)[0])  # rounded as the batch's, row by row
     if residual > CLOSURE_TOLERANCE or (manifold.is_solution is not None and not manifold.is_solution(point)):
         raise ConfigurationError(f"the configuration is not on the C-space (|Φ| = {residual:.3g}); project it first")
     names = model.coordinate_names

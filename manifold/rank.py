@@ -103,8 +103,8 @@ def numerical_rank(matrix, rtol=DEFAULT_RTOL, atol=DEFAULT_ATOL, scale=None):
         raise ValueError(f"Expected a matrix of shape (rows, columns), got shape {matrix.shape}")
     if not np.all(np.isfinite(matrix)):
         raise ValueError("Expected a matrix of finite numbers (NaN or infinity has no rank)")
-    if matrix.size == 0:
-        return RankDecision(0, np.zeros(0), float(atol))
+    if matrix.size == 0:  # no singular values: the cut that would apply (max(rtol·scale, atol), as for others)
+        return rank_of_values(np.zeros(0), rtol=rtol, atol=atol, scale=scale)
     return rank_of_values(np.linalg.svd(matrix, compute_uv=False), rtol=rtol, atol=atol, scale=scale)
 
 

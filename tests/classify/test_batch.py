@@ -15,11 +15,11 @@ import numpy as np
 import pytest
 
 from builders import ladder
-from classify import KINDS, Survey, classify, model_of
+from classify import KINDS, Model, Survey, classify, model_of
 from classify.batch import classify_many
 from classify.survey import survey_of
-from manifold import implicit, sample_manifold, tangent_basis
-from mechanisms import ConfigurationError, EndEffector, Joint, Mechanism, catalogue
+from manifold import AmbientSpace, ImplicitManifold, implicit, sample_manifold, tangent_basis
+from mechanisms import ConfigurationError, EndEffector, Joint, Mechanism, catalogue, home
 
 #: the module (``classify.survey`` the attribute is the function it exports)
 survey_module = importlib.import_module("classify.survey")
@@ -287,3 +287,51 @@ def test_closed_form_singular_values_equal_lapack_to_rounding():
         assert values.shape == expected.shape
         scale = np.max(expected, axis=-1, keepdims=True) if expected.size else 1.0
         assert np.all(np.abs(values - expected) <= 4e-15 * scale)
+
+
+def test_the_closure_tolerance_is_decided_alike_one_at_a_time_and_in_a_stack():
+    """Φ's rows norm to 1e-9 (the closure tolerance) as a vector, and to 1e-9 + 1 ulp as a row of a stack
+    (different summation orders): classify accepted the configuration, classify_many refused it and with it
+    the whole stack (found on a 5-SPU bisected to the tolerance). Both now round the norm alike."""
+    rows = np.array([9.858016957364273e-13, 5.280828744662727e-11, -5.301534863258298e-10, 3.685422641280142e-10,
+                     2.34647031999913e-10, -3.5436746305184156e-10, -1.6572903616637347e-10, 6.101004438083413e-10])
+    count = len(rows) + 1
+    ambient = AmbientSpace(("R",) * count)
+
+    def constraint(point):  # M: the line of the last coordinate
+        return np.asarray(point, dtype=float)[..., :-1]
+
+    def jacobian(point):
+        return np.broadcast_to(np.eye(count)[:-1], np.shape(point)[:-1] + (count - 1, count))
+
+    def hessian(point):
+        return np.zeros(np.shape(point)[:-1] + (count - 1, count, count))
+
+    model = Model("line", ImplicitManifold(ambient, constraint, jacobian, hessian), np.eye(count)[-1:],
+                  tuple(f"q{index}" for index in range(count)), np.zeros((1, count)))
+    for scale in (1.0 - 4e-16, 1.0, 1.0 + 4e-16, 1.0 + 1e-15):
+        point = np.append(scale * rows, 0.3)
+        try:
+            single = classify(model, point).kinds
+        except ConfigurationError:
+            single = "refused"
+        try:
+            batch = classify_many(model, point[None]).kinds(0)
+        except ConfigurationError:
+            batch = "refused"
+        assert single == batch, scale
+
+
+def test_a_rigid_structure_has_the_same_cuts_in_a_stack():
+    """A rigid triangle (dof 0) with a crank and an end-effector: its actuator and end-effector blocks have no
+    columns. The single call reported the absolute floor 1e-12 as their cuts, the batch rtol times their
+    scales (1e-6, 1.4e-6); both now report the cut that would apply, max(rtol · scale, floor)."""
+    mechanism = Mechanism("rigid triangle", "planar", [
+        Joint("J1", "R", ("ground", "a"), point=(0.0, 0.0), actuated=True),
+        Joint("J2", "R", ("a", "b"), point=(3.0, 4.0)),
+        Joint("J3", "R", ("b", "ground"), point=(3.0, 0.0))], end_effector=EndEffector("a", (1.0, 1.0), "position"))
+    point = home(mechanism)
+    single, batch = classify(mechanism, point), classify_many(mechanism, point[None])
+    assert single.dof == batch.dof[0] == 0
+    for kind in ("actuator", "end_effector"):
+        assert batch.tolerances[kind][0] == getattr(single, kind).decision.tolerance > 1e-9
