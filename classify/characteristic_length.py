@@ -36,7 +36,8 @@ from .conditioning_matrices import three_prr_matrices
 __all__ = [
     "CharacteristicLength", "three_prr_length", "three_prr_leg_angles", "isotropy_length", "isotropy_residuals",
     "three_prr_kappa", "optimal_characteristic_length", "isotropic_postures",
-    "mechanism_optimal_length", "largest_isotropic_length", "three_prr_characteristic_length",
+    "mechanism_optimal_length", "largest_isotropic_length", "length_window",
+    "three_prr_characteristic_length",
 ]
 
 #: κ − 1 below which a minimum counts as isotropic (the optimiser reaches ~1e-10 on the 3-PRR)
@@ -227,11 +228,45 @@ def isotropic_postures(kappa, starts, tolerance=ISOTROPY_TOLERANCE, separation=1
 #: relative width of the bracket at which the largest isotropic L is taken as found (well below the precision
 #: that ISOTROPY_TOLERANCE on κ gives L: near the largest L, κ − 1 grows like the relative excess of L)
 LENGTH_PRECISION = 1e-8
+#: windows (κ's minima at trial lengths) the sweep of :func:`largest_isotropic_length` takes down from `high`
+#: before it bisects; on the 3-PRR and the planar 3-RRR the first window already ends at the largest L
+SWEEP_STEPS = 8
+
+
+def length_window(length, value, tolerance=0.0):
+    """The lengths excluded by κ's minimum over the postures at one L: no posture has κ ≤ 1 + `tolerance` there.
+
+    D(L') = D(L) diag(L'/L on the rotation rows, 1 on the others) changes every singular value of J̄ by a factor
+    between min(ρ, 1) and max(ρ, 1), ρ = L'/L, so κ(L', q) ≥ κ(L, q) / max(ρ, 1/ρ) at every posture q. If
+    κ(L, q) ≥ `value` at every q, then κ(L', q) > 1 + `tolerance` for ρ strictly between (1 + `tolerance`) /
+    `value` and `value` / (1 + `tolerance`). At an isotropic posture q of length L_q (J̄(L_q) J̄(L_q)ᵀ = τ² 1,
+    Chablat, Caro, Wenger & Angeles 2002 §3.3) κ(L, q) = max(L/L_q, L_q/L) exactly, so the window is as wide
+    as it can be: at L above the largest isotropic L, L/`value` is that largest L wherever the minimum of κ
+    over the postures is reached on the isotropic family (the 3-PRR, the planar 3-RRR).
+
+    Parameters
+    ----------
+    length : float
+        L, where κ's minimum over the postures is `value`.
+    value : float
+        min over the postures of κ(J̄(L)) (≥ 1); only a global minimum excludes anything.
+    tolerance : float
+
+    Returns
+    -------
+    tuple of float
+        (low, high): no L' in the open interval has a posture with κ ≤ 1 + `tolerance` (empty where `value` ≤
+        1 + `tolerance`).
+    """
+    ratio = float(value) / (1.0 + tolerance)
+    if not ratio > 1.0:
+        return float(length), float(length)
+    return float(length) / ratio, float(length) * ratio
 
 
 def largest_isotropic_length(kappa, length, posture, high, tolerance=ISOTROPY_TOLERANCE, max_evaluations=600,
-                             precision=LENGTH_PRECISION, length_at=None):
-    """The largest L at which an isotropic posture exists, continued from an isotropic (L, posture).
+                             precision=LENGTH_PRECISION, length_at=None, sweep_steps=SWEEP_STEPS):
+    """The largest L at which an isotropic posture exists, at most `high`, given an isotropic (L, posture).
 
     Where κ = 1 is reached, it is reached along a family: on the 3-PRR every γ gives an isotropic posture
     with L = √2 r sin γ (Chablat, Caro, Wenger & Angeles 2002 §3.4), so "the L minimising κ over L and the
@@ -240,12 +275,25 @@ def largest_isotropic_length(kappa, length, posture, high, tolerance=ISOTROPY_TO
     furthest away from parallel singularities", §3.4) wherever γ = π/2 is reachable, and the γ closest to
     π/2 otherwise. It depends on the mechanism only (scaled with its lengths).
 
-    L is doubled while an isotropic posture is found (Nelder–Mead over the posture from the last isotropic
-    one), then bisected (geometrically) until the bracket's relative width is below `precision`. A posture
-    counts as isotropic with κ − 1 ≤ `tolerance`, so the bracket can end up to about `tolerance` (relative)
-    above the largest L; with `length_at`, L is then replaced by the isotropic L of the posture found (its
-    minimiser of κ over L, ≤ the largest L), which removes that excess where the largest L is a smooth
-    maximum over the family (γ = π/2 on the 3-PRR: the error becomes quadratic).
+    The isotropic lengths are the image of the isotropic postures under q ↦ L_q, so they form an interval only
+    where the isotropic postures within reach are connected (on the 3-PRR, one arc of φ at P = O, where
+    L = √2 r sin γ, §3.4); the search does not assume one. It sweeps down from `high`: at a trial L, κ is
+    minimised over the postures (Nelder–Mead, from the last posture found); a minimum κ_min above
+    1 + `tolerance` excludes every L' from L (1 + `tolerance`) / κ_min to L (:func:`length_window`), and the
+    next trial is just below that edge (relative `precision` / 2). The first isotropic trial ends the sweep:
+    within `precision` of the edge above it, it is the largest isotropic L wherever the minima found are
+    global, however the isotropic lengths are split (a local minimum can hide a larger one, as in any local
+    search). One more trial, just above the edge (relative `tolerance`), checks that the edge's minimum was
+    global. Where κ_min = L / L_max above the largest L (the minimum on the isotropic family: the 3-PRR, the
+    planar 3-RRR) the first window ends at the largest L, and the search takes three minimisations. After
+    `sweep_steps` windows (κ_min growing more slowly than L), or where the check is isotropic, the rest is
+    bisected (geometrically) between the largest isotropic trial and the smallest non-isotropic one (or an
+    edge) until the bracket's relative width is below `precision`, which assumes one interval there.
+
+    A posture counts as isotropic with κ − 1 ≤ `tolerance`, so the L found can be up to about `tolerance`
+    (relative) above the largest L; with `length_at`, L is then replaced by the isotropic L of the posture
+    found (its minimiser of κ over L, ≤ the largest L), which removes that excess where the largest L is a
+    smooth maximum over the family (γ = π/2 on the 3-PRR: the error becomes quadratic).
 
     Parameters
     ----------
@@ -263,11 +311,13 @@ def largest_isotropic_length(kappa, length, posture, high, tolerance=ISOTROPY_TO
     precision : float
     length_at : callable, optional
         ``length_at(posture) -> (L, κ)``: the L minimising κ at a posture, and κ there.
+    sweep_steps : int
+        Windows swept down from `high` before bisecting (at least 1: `high` is always tried).
 
     Returns
     -------
     length : float
-        The largest isotropic L found (the lower end of the final bracket, or `length_at` there).
+        The largest isotropic L found (the largest isotropic trial, or `length_at` there).
     posture : ndarray, shape=[p]
         An isotropic posture there.
     kappa : float
@@ -283,21 +333,36 @@ def largest_isotropic_length(kappa, length, posture, high, tolerance=ISOTROPY_TO
 
     posture = np.asarray(posture, dtype=float)
     best = _finite(kappa(length, posture))
-    upper = None
-    while upper is None and length < high:
-        trial = min(2.0 * length, high)
-        isotropic, found, value = isotropic_at(trial, posture)
+    start, upper, excluded = posture, None, None   # upper: the smallest non-isotropic trial; excluded: an edge
+    trial, steps = float(high), 0
+    while length < high and steps < max(sweep_steps, 1) and trial > length:   # the sweep, down from `high`
+        isotropic, found, value = isotropic_at(trial, start)
         if isotropic:
             length, posture, best = trial, found, value
-        else:
-            upper = trial
-    while upper is not None and upper / length - 1.0 > precision:
+            break
+        steps, upper, start = steps + 1, trial, found
+        excluded = length_window(trial, value, tolerance)[0] if value < 1e12 else None
+        if excluded is None:
+            break
+        trial = excluded * (1.0 - precision / 2.0)
+    if upper is not None and excluded is not None:
+        if max(excluded, length) / length - 1.0 <= precision:   # landed: was the window's minimum global?
+            check = min(max(excluded, length) * (1.0 + max(tolerance, precision)), upper)
+            isotropic, found, value = isotropic_at(check, posture) if check < upper else (False, None, None)
+            if isotropic:
+                length, posture, best = check, found, value
+            else:
+                upper = max(excluded, length)
+        elif excluded > length:   # the sweep stopped: nothing isotropic above its last edge
+            upper = excluded
+    while upper is not None and upper / length - 1.0 > precision:   # bisection: one interval assumed
         trial = float(np.sqrt(length * upper))
         isotropic, found, value = isotropic_at(trial, posture)
         if isotropic:
             length, posture, best = trial, found, value
         else:
-            upper = trial
+            low, top = length_window(trial, value, tolerance)
+            upper = low if length < low and top >= upper and value < 1e12 else trial
     if length_at is not None:
         snapped, value = length_at(posture)
         if value - 1.0 <= tolerance:
