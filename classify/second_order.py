@@ -47,16 +47,18 @@ __all__ = [
 #: diag(s) (:func:`classify.metrics.unit_rows`; independent of the actuator weights)
 SECOND_ORDER_RTOL = 1e-6
 #: residual every point of a self-motion certificate must reach on the fibre (Φ and the actuated coordinates'
-#: rows, dimensionless), times √(its rows) (rounding adds up over the rows: the Gough-Stewart's 36 reach 6e-14):
-#: near rounding, or 10 times the rounding floor of Φ where it is larger (the certificate
-#: starts from the point of M nearest p̄, reached by Gauss-Newton until ‖Φ‖ stops falling, :func:`_settled`, and
-#: follows the fibre through it: a point given to the closure tolerance 1e-9 does not loosen the cut). Far from
-#: the origin (a planar 3-RRR moved 1e5 lengths away) the fibre's rounding can exceed it, and a self-motion is
-#: then "undetermined", never certified falsely. With the continuation's
-#: 1e-10, a design within ~1e-7 of a degenerate one (a 3-RPR with parallel legs whose third leg is longer by a
-#: factor 1 + 1e-7) had a near-miss curve whose residual grows like t² (6e-11 at distance 0.11) certified as a
-#: self-motion; a true self-motion reaches 1e-16 near the origin
-SELF_MOTION_TOLERANCE = 1e-13
+#: rows, dimensionless), times √(its rows) (rounding adds up over the rows), or 10 times the rounding floor of Φ
+#: where it is larger (the certificate starts from the point of M nearest p̄, reached by Gauss-Newton until ‖Φ‖
+#: stops falling, :func:`_settled`, and follows the fibre through it: a point given to the closure tolerance
+#: 1e-9 does not loosen the cut). A true self-motion of the catalogue reaches 1e-16 near the origin, and stays
+#: certified at a cut of 1e-15 with its base moved 1,000 lengths away. A design δ away from a degenerate one
+#: has a near-miss curve whose residual grows like δ t²: the resolution. For a 3-RPR with parallel legs whose
+#: third leg is longer by a factor 1 + δ the residual at distance 0.1 is about 3e-4 δ, so δ ≲ 1e-10 is certified
+#: degenerate (double precision cannot tell it from δ = 0 at that distance) and δ ≥ 5e-10 is not, to 1e4
+#: lengths from the origin; with 1e-13 the resolution was 5e-10 and δ = 1e-9 sat at the cut (certified with its
+#: base moved 1e5 lengths). Farther than ~1e5 lengths, rounding decides: a true self-motion may be
+#: "undetermined", and a design within ~5e-10 certified
+SELF_MOTION_TOLERANCE = 1e-14
 #: Gauss-Newton steps of :func:`_settled` at most
 SETTLING_STEPS = 8
 
