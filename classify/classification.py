@@ -143,8 +143,9 @@ def classify(mechanism, point, survey=None, rng=None, rtol=DEFAULT_RTOL, length_
     actuator_decision = numerical_rank(actuator_block, rtol=rtol, scale=actuator_scale)
     n = model.end_effector_dimension
     end_effector_decision = numerical_rank(end_effector_block, rtol=rtol, scale=end_effector_scale) if n else None
-    survey = _including_point(survey, constraint_decision.rank, actuator_decision,
-                              end_effector_decision, lambda: numerical_rank(stacked(*blocks), rtol=rtol, scale=1.0))
+    if not cspace_singular:  # at a C-space singularity ker DΦ(p) is larger than the tangent spaces of M
+        survey = _including_point(survey, constraint_decision.rank, actuator_decision, end_effector_decision,
+                                  lambda: numerical_rank(stacked(*blocks), rtol=rtol, scale=1.0))
     idle = survey.idle_freedoms(dof)
     expected_actuator = dof - idle
     actuator_singular = actuator_decision.rank < expected_actuator

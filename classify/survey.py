@@ -19,7 +19,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from manifold import DEFAULT_RTOL, jacobian_rank, numerical_rank, sample_manifold, tangent_basis
+from manifold import DEFAULT_RTOL, jacobian_rank, numerical_rank, sample_manifold, tangent_basis, tangent_extent
 
 from .metrics import largest_singular_value, metric_root, unit_rows
 
@@ -268,7 +268,12 @@ def survey(model, rng, starts=None, random_count=24, walk_count=24, rtol=DEFAULT
     for point, rank in zip(points, ranks):
         if rank < constraint_rank:
             continue  # a C-space singularity: ker DΦ is larger than the tangent spaces of M
-        blocks = decision_blocks(model, point, tangent_basis(manifold, point, rtol=rtol)[0])
+        basis = tangent_basis(manifold, point, rtol=rtol)[0]
+        if rank < np.size(manifold.constraint(point)) and basis.shape[1]:
+            # DΦ short of its rows: M may extend along fewer directions than ker DΦ (a part of the mechanism
+            # that only flexes, everywhere on M); the ranks are those on the directions M extends along
+            basis = tangent_extent(manifold, point, basis).moving
+        blocks = decision_blocks(model, point, basis)
         actuator, actuator_scale, end_effector, end_effector_scale = blocks
         actuator_rank = max(actuator_rank, numerical_rank(actuator, rtol=rtol, scale=actuator_scale).rank)
         if end_effector is None:

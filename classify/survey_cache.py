@@ -31,9 +31,10 @@ _FORMAT = "closedchain-survey"
 #: spatial and spherical mechanisms had the walk from home as their only samples, every random start ending at
 #: a half-turn); 3: that projection is damped (Levenberg-Marquardt: random starts where Gauss-Newton stalled
 #: far from M now reach it, and are samples), and every step is capped in dimensionless units (the caps added
-#: radians and lengths, so the samples changed with the unit of length). A file of an earlier version is
-#: refused, not reused
-_VERSION = 3
+#: radians and lengths, so the samples changed with the unit of length); 4: where DΦ is short of its rows the
+#: ranks are taken on the directions M extends along (a part that only flexes counted as idle freedoms that
+#: move the end-effector). A file of an earlier version is refused, not reused
+_VERSION = 4
 #: largest survey cache file read (bytes)
 _LARGEST_FILE = 1 << 20
 

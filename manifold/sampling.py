@@ -108,11 +108,14 @@ class TangentExtent:
     still : ndarray, shape=[k, m - extent]
         Joint-rate directions (columns of ``basis`` combined) along which M does not extend: infinitesimal
         motions (flexes) that no curve of M follows.
+    moving : ndarray, shape=[k, extent]
+        The other directions of ``basis`` (orthonormal to `still` in the same product): those M extends along.
     """
 
     extent: int
     singular_values: np.ndarray
     still: np.ndarray
+    moving: np.ndarray
 
 
 def tangent_extent(manifold, point, basis, step=EXTENT_STEP):
@@ -143,7 +146,8 @@ def tangent_extent(manifold, point, basis, step=EXTENT_STEP):
     values, right_transposed = _secant_decompositions(manifold, np.asarray(point, dtype=float)[None],
                                                       np.asarray(basis, dtype=float)[None], step)
     extent = int(np.count_nonzero(values[0] > EXTENT_CUT))
-    return TangentExtent(extent, values[0], basis @ right_transposed[0, extent:].T)
+    combined = np.asarray(basis, dtype=float) @ right_transposed[0].T
+    return TangentExtent(extent, values[0], combined[:, extent:], combined[:, :extent])
 
 
 def tangent_extents(manifold, points, bases, step=EXTENT_STEP):

@@ -99,3 +99,27 @@ def test_tangent_extent_of_a_circle_and_of_an_isolated_point():
     assert basis.shape[1] == 2
     extent = tangent_extent(isolated, origin, basis)
     assert extent.extent == 0 and extent.still.shape == (2, 2) and np.all(extent.singular_values < 0.5)
+
+
+def stretched_four_bar_carrying_a_four_bar():
+    """A four-bar J fully stretched (it cannot move, only flex) whose middle link carries a generic four-bar K
+    driven at K1: M is K's curve, and at every point of M ker DΦ adds J's two flexes."""
+    joints = [Joint("J1", "R", ("ground", "a"), point=(0.0, 0.0)), Joint("J2", "R", ("a", "b"), point=(1.0, 0.0)),
+              Joint("J3", "R", ("b", "c"), point=(2.0, 0.0)), Joint("J4", "R", ("c", "ground"), point=(3.0, 0.0)),
+              Joint("K1", "R", ("b", "d"), point=(1.5, 0.0), actuated=True),
+              Joint("K2", "R", ("d", "e"), point=(1.9, 1.2)), Joint("K3", "R", ("e", "f"), point=(3.4, 1.6)),
+              Joint("K4", "R", ("f", "ground"), point=(3.8, 0.2))]
+    return Mechanism("flex and four-bar", "planar", joints, end_effector=EndEffector("d", (1.7, 0.6), "position"))
+
+
+def test_a_part_that_only_flexes_is_no_freedom_of_the_survey():
+    """The survey took its ranks on ker DΦ, J's flexes included: the end-effector 'moved' with K1 locked, so
+    the design was called architecturally singular (one moving idle freedom). Its ranks are now those on the
+    directions M extends along (found by an invariance audit)."""
+    mechanism = stretched_four_bar_carrying_a_four_bar()
+    report = classify(mechanism, home(mechanism))
+    assert report.kinds == ("cspace",) and report.dof == 1
+    assert not report.architecture_singular and report.moving_idle_freedoms == 0 and report.idle_freedoms == 0
+    assert (report.survey["actuator_rank"], report.survey["end_effector_rank"], report.survey["joint_rank"]) == (1,) * 3
+    batch = classify_many(mechanism, home(mechanism)[None])
+    assert batch.report(0).to_dict() == report.to_dict()
