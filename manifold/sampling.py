@@ -131,6 +131,11 @@ def tangent_extent(manifold, point, basis, step=EXTENT_STEP):
     :data:`EXTENT_CUT`. The constraint map must take stacks of points; :func:`tangent_extents` does a stack
     of points at once, with the same arithmetic point by point.
 
+    Resolution: M is seen at the scale h. A C-space that extends less than about h from p (a spatial 4R
+    within ~5e-8 of a design that cannot move, whose C-space is a loop smaller than 1e-3) reads as a
+    structure that only flexes. h cannot be made much smaller: along a flex the projection's residual
+    tolerance leaves the point uncertain by about its square root (1e-6), which a secant over h must not reach.
+
     Parameters
     ----------
     manifold : ImplicitManifold
