@@ -105,6 +105,12 @@ def classify(mechanism, point, survey=None, rng=None, rtol=DEFAULT_RTOL, length_
     # C-space: rank of DΦ at p against the rank on M near p (dimensionless: DΦ·diag(s)). Where DΦ has the
     # largest rank the survey found on M, p is a regular point of M and no neighbour is needed.
     basis, constraint_decision = tangent_basis(manifold, point, rtol=rtol)
+    distance = _distance_bound(residual, constraint_decision)
+    if distance > rtol:
+        notes.append(f"p closes the loops within the closure tolerance (‖Φ‖ = {residual:.2g}) but may lie up to "
+                     f"{distance:.2g} from M (‖Φ‖ over the smallest kept singular value of DΦ·diag(s), "
+                     f"{constraint_decision.margin[0]:.2g}: DΦ is nearly singular here); a decision within that of "
+                     f"its cut may differ on M: project p onto M (--project)")
     survey = survey_of(model, rtol) if survey is None else survey
     nearby = _Neighbourhood(manifold, point, rng, rtol)
     near_rank = (constraint_decision.rank if constraint_decision.rank >= survey.constraint_rank
@@ -237,6 +243,13 @@ class _Neighbourhood:
     def local(self):
         manifold, point, rng, rtol = self._arguments
         return local_rank(manifold, point, rng, rtol=rtol)
+
+
+def _distance_bound(residual, decision):
+    """An upper bound of the dimensionless distance from p to M to first order: the Gauss-Newton step
+    ‖(DΦ·s)⁺ Φ‖ ≤ ‖Φ‖ / σ_r, σ_r the smallest kept singular value of DΦ·diag(s) (0 without rows or rank)."""
+    kept = decision.margin[0]
+    return 0.0 if kept is None or not residual else residual / kept
 
 
 def _including_point(survey, constraint_rank, actuator_decision, end_effector_decision, joint_decision):

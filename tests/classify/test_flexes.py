@@ -123,3 +123,19 @@ def test_a_part_that_only_flexes_is_no_freedom_of_the_survey():
     assert (report.survey["actuator_rank"], report.survey["end_effector_rank"], report.survey["joint_rank"]) == (1,) * 3
     batch = classify_many(mechanism, home(mechanism)[None])
     assert batch.report(0).to_dict() == report.to_dict()
+
+
+def test_a_point_off_a_flat_triangle_within_the_closure_tolerance_is_said_to_be_perhaps_off_m():
+    """Flexed by 1e-5 the triangle closes to ‖Φ‖ = 5e-11 (the closure is quadratic there), within the closure
+    tolerance, though M is the flat point alone: DΦ has σ₃ = 4e-6 and the point is called regular. The verdict
+    cannot be right or wrong on M; the report now says the point may lie up to ‖Φ‖/σ₃ = 1.2e-5 from M, more than
+    the rank cut. On M, and 1e-7 off (called singular, as on M), no such note."""
+    from mechanisms import from_displacements
+
+    mechanism = flat_triangle()
+    notes = {}
+    for offset in (0.0, 1e-7, 1e-5):
+        point = from_displacements(mechanism, {"J1": offset, "J2": -2 * offset, "J3": offset})
+        notes[offset] = [note for note in classify(mechanism, point).notes if "may lie up to" in note]
+    assert notes[0.0] == notes[1e-7] == [] and len(notes[1e-5]) == 1
+    assert "project p onto M" in notes[1e-5][0]
