@@ -38,6 +38,7 @@ import sympy
 from manifold import DEFAULT_RTOL, RankDecision, numerical_rank
 
 from .metrics import metric_root
+from .survey import decision_blocks, stacked as stacked_rows
 
 __all__ = [
     "GA_KINDS", "InputOutputRelation", "GosselinAngeles",
@@ -432,11 +433,16 @@ def gosselin_angeles(relation, inputs, outputs, rtol=DEFAULT_RTOL, row_scales=No
 def derived_gosselin_angeles(model, point, basis, rtol=DEFAULT_RTOL):
     """A and B derived from a mechanism at p: ``[B A]`` spans the annihilator of V (module doc).
 
-    With ``P = E^½ Dπ T`` (a×m) and ``Q = H^½ Df T`` (n×m), each divided by
-    the largest singular value of its unrestricted map (``E^½ Dπ``, ``H^½ Df``),
-    ``V = range [P; Q]``. Its left null space, with orthonormal rows, is
-    ``[B A]`` in those weighted coordinates; multiplying by ``E^½`` and
-    ``H^½`` gives A and B in the mechanism's coordinates (same ranks). A
+    On the dimensionless rows of Park–Kim's decisions
+    (:func:`classify.survey.decision_blocks`): ``P = U T`` (a×m), U the unit
+    actuator rows (each row of ``E^½ Dπ`` over its norm times diag(s)), and
+    ``Q = H^½ Df T`` (n×m), each divided by the largest singular value of its
+    unrestricted map times diag(s); ``V = range [P; Q]``. Its left null space,
+    with orthonormal rows, is ``[B A]`` in those coordinates; mapping back
+    gives A and B in the mechanism's coordinates (same ranks). Neither the
+    weights nor the unit of length change a decision: a 3-PRR drawn in
+    nanometres had B of rank 0 where in millimetres it is regular (the raw rows
+    of a prismatic input grew with the unit, the output scale did not). A
     change of basis T (``T → T R``) leaves V, hence A and B, unchanged.
 
     Parameters
@@ -463,11 +469,9 @@ def derived_gosselin_angeles(model, point, basis, rtol=DEFAULT_RTOL):
     if count_inputs == 0:
         return _undefined(0, "not_square", "no inputs and no outputs: G–A needs n ≥ 1 of each")
     n = count_inputs
-    root = metric_root(model.end_effector_metric)
-    full_outputs = root @ model.end_effector_jacobian(point)
-    input_scale = float(np.linalg.norm(actuators, 2)) or 1.0
-    output_scale = float(np.linalg.norm(full_outputs, 2)) or 1.0
-    stacked = np.vstack([actuators @ basis / input_scale, full_outputs @ basis / output_scale])
+    blocks = decision_blocks(model, point, basis)
+    input_scale, output_scale = max(blocks[1], 1e-300), max(blocks[3], 1e-300)
+    stacked = stacked_rows(*blocks)
     velocities = numerical_rank(stacked, rtol=rtol, scale=1.0)
     if velocities.rank != n:
         return _undefined(n, "subspace_dimension",
@@ -475,9 +479,12 @@ def derived_gosselin_angeles(model, point, basis, rtol=DEFAULT_RTOL):
                           f"is not spanned by n rows [B A]", velocities.rank)
     left = np.linalg.svd(stacked, full_matrices=True)[0][:, n:].T
     weighted_b, weighted_a = left[:, :n], left[:, n:]
-    # back to the mechanism's coordinates: rows annihilate (E^½ θ̇ / s_a, H^½ ẋ / s_j)
-    input_root = np.diag(np.sqrt(np.sum(actuators ** 2, axis=1)))
-    b = weighted_b @ input_root / input_scale
-    a = weighted_a @ root / output_scale
+    # back to the mechanism's coordinates: rows annihilate (U T u / s_a, H^½ Df T u / s_j), where
+    # U T u = diag(1 / |row·diag(s)|) E^½ θ̇ and E^½ = diag(|row|) (each row of E^½ Dπ selects one coordinate)
+    scales = model.manifold.ambient.tangent_scales
+    input_root = np.sqrt(np.sum(actuators ** 2, axis=1))
+    dimensionless = np.linalg.norm(actuators * scales, axis=1)
+    b = weighted_b * (input_root / np.where(dimensionless > 0, dimensionless, 1.0)) / input_scale
+    a = weighted_a @ metric_root(model.end_effector_metric) / output_scale
     return GosselinAngeles(n, b, a, numerical_rank(weighted_b, rtol=rtol, scale=1.0),
                            numerical_rank(weighted_a, rtol=rtol, scale=1.0), velocities, None, "", n)

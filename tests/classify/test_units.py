@@ -92,3 +92,31 @@ def test_actuator_weights_change_no_verdict(weight):
                          [dataclasses.replace(joint, weight=weight) if joint.actuated else joint
                           for joint in mechanism.joints], mechanism.ground, mechanism.end_effector)
     assert_same_verdict(classified(mechanism), classified(weighted))
+
+
+def _has_slides(name):
+    return any(joint.type == "P" for joint in catalogue.entry(name).mechanism().joints)
+
+
+@pytest.mark.parametrize("name, configuration, factor", [case for case in SCALED if _has_slides(case[0])])
+def test_a_change_of_length_unit_changes_no_gosselin_angeles_verdict(name, configuration, factor):
+    """The derived A and B (Gosselin & Angeles 1990) were cut on the raw actuator rows against an output scale
+    taken without diag(s): a 3-PRR drawn in nanometres had B of rank 0 at its regular home ('unexplained'),
+    the Gough–Stewart in micrometres kind I (found by an audit). They are now decided on Park–Kim's
+    dimensionless rows."""
+    from classify import compare
+
+    rows = []
+    for mechanism in (catalogue_mechanism(name, configuration),
+                      scale_lengths(catalogue_mechanism(name, configuration), factor)):
+        mechanism = shared_mechanism(mechanism)
+        rows.append(compare(mechanism, [home(mechanism)], rng=np.random.default_rng(0)).rows[0])
+    first, second = (row.gosselin_angeles for row in rows)
+    assert (first.defined, first.kinds, first.undefined) == (second.defined, second.kinds, second.undefined)
+    assert (rows[0].agree, rows[0].reason) == (rows[1].agree, rows[1].reason)
+    for decision in ("input_decision", "output_decision"):
+        a, b = getattr(first, decision), getattr(second, decision)
+        assert (a is None) == (b is None)
+        if a is not None:
+            assert a.rank == b.rank
+            np.testing.assert_allclose(a.singular_values, b.singular_values, rtol=1e-6, atol=1e-12)
