@@ -712,14 +712,16 @@ def _regular_columns(model, points, basis, constraint_rank, survey, rtol, column
     columns["singular"][rows, KINDS.index("end_effector")] = end_effector_ranks < expected_end_effector
     # G definite on the motions that move something (with idle freedoms, on a complement of them, as classify)
     moves = dof - idle
-    for kept in np.unique(moves[(moves > 0) & (actuator_ranks == moves)]):
-        definite = np.flatnonzero((moves == kept) & (actuator_ranks == kept))
+    counts = np.maximum(1, np.minimum(expected_end_effector, moves))  # as many λ's as J has rank on M (classify)
+    definite_rows = (moves > 0) & (actuator_ranks == moves)
+    for kept, count in sorted({(int(a), int(b)) for a, b in zip(moves[definite_rows], counts[definite_rows])}):
+        definite = np.flatnonzero((moves == kept) & (actuator_ranks == kept) & (counts == count))
         motions = basis[definite]
         if kept < dof:
-            motions = motions @ moving_directions(stacked(definite), int(kept))
+            motions = motions @ moving_directions(stacked(definite), kept)
         values = proper_values(model.actuators @ motions, end_effector_jacobian[definite] @ motions,
-                               model.end_effector_metric, min(n, int(kept)))
-        vanishing = end_effector_ranks[definite] < min(n, int(kept))
+                               model.end_effector_metric, count)
+        vanishing = end_effector_ranks[definite] < count
         smallest = values[:, -1]
         condition = np.where(vanishing | (smallest <= 0.0), np.nan,
                              values[:, 0] / np.where(smallest > 0.0, smallest, 1.0))

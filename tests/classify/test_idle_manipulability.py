@@ -43,3 +43,33 @@ def test_the_batch_gives_the_proper_values_with_idle_freedoms_as_single_calls():
         single = classify(model, points[item])
         assert single.manipulability is not None
         np.testing.assert_allclose(batch.eigenvalues[item], single.manipulability.eigenvalues, rtol=1e-9)
+
+
+def in_space(mechanism):
+    """A planar mechanism written as a spatial one: its points at z = 0, its R axes along z."""
+    from mechanisms import EndEffector
+
+    joints = [Joint(joint.name, joint.type, joint.links, point=tuple(joint.point) + (0.0,), axis=(0.0, 0.0, 1.0),
+                    actuated=joint.actuated) for joint in mechanism.joints]
+    end_effector = mechanism.end_effector
+    return Mechanism(mechanism.name, "spatial", joints, mechanism.ground,
+                     EndEffector(end_effector.link, tuple(end_effector.point) + (0.0,), end_effector.output))
+
+
+@pytest.mark.parametrize("name", [None, "fig12a_end_effector"])
+def test_a_planar_mechanism_written_in_space_has_its_planar_proper_values(name):
+    """Park & Kim 1999's planar six-bar (3 dof, a position output): written in space its end-effector has a
+    third coordinate, z, that never moves, and a third λ = 0 made κ infinite at every configuration (as a URDF
+    round trip showed, found by an audit). There are as many λ's as J has rank on M."""
+    from mechanisms import home
+
+    planar = catalogue.entry("planar-six-bar").mechanism(**({"configuration": name} if name else {}))
+    spatial = in_space(planar)
+    expected, found = classify(planar, home(planar)), classify(spatial, home(spatial))
+    assert found.kinds == expected.kinds
+    np.testing.assert_allclose(found.manipulability.eigenvalues, expected.manipulability.eigenvalues, rtol=1e-9,
+                               atol=1e-12)  # at Fig. 12a λ₂ is rounding (1e-65)
+    assert (found.manipulability.condition_number is None) == (name is not None)
+    batch = classify_many(spatial, home(spatial)[None])
+    assert batch.report(0).to_dict() == found.to_dict()
+    np.testing.assert_allclose(batch.eigenvalues[0][:2], expected.manipulability.eigenvalues, rtol=1e-9, atol=1e-12)
