@@ -32,7 +32,7 @@ from functools import cached_property
 import numpy as np
 
 from manifold import (
-    DEFAULT_RTOL, check_rtol, local_rank, numerical_rank, scaled_jacobian, tangent_basis, tangent_extent,
+    DEFAULT_RTOL, EXTENT_CUT, check_rtol, local_rank, numerical_rank, scaled_jacobian, tangent_basis, tangent_extent,
 )
 from mechanisms import CLOSURE_TOLERANCE, ConfigurationError, Mechanism
 
@@ -135,10 +135,15 @@ def classify(mechanism, point, survey=None, rng=None, rtol=DEFAULT_RTOL, length_
             cspace_singular, lost = True, extent.still
             expected_constraint = min(rows, k - extent.extent)
             cspace_extra = {"kernel_dimension": int(basis.shape[1]), "tangent_cone_dimension": extent.extent,
-                            "tangent_cone_span": extent.extent}
+                            "tangent_cone_span": extent.extent,
+                            # the margin of this verdict: the secants' singular values against their cut
+                            "secant_singular_values": [float(value) for value in extent.singular_values],
+                            "secant_cut": EXTENT_CUT}
+            secants = ", ".join(f"{value:.2g}" for value in extent.singular_values)
             notes.append(f"C-space singularity: M extends along {extent.extent} of the {dof} directions of "
-                         f"ker DΦ(p); the others are infinitesimal motions no motion of M follows (a structure "
-                         f"flat or stretched); actuator and end-effector ranks are computed on ker DΦ(p)")
+                         f"ker DΦ(p) (secants' singular values {secants}; cut {EXTENT_CUT}); the others are "
+                         f"infinitesimal motions no motion of M follows (a structure flat or stretched); actuator "
+                         f"and end-effector ranks are computed on ker DΦ(p)")
             dof = extent.extent
     cspace = KindResult(cspace_singular, constraint_decision.rank, expected_constraint, constraint_decision, lost,
                         cspace_extra)

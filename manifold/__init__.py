@@ -21,8 +21,8 @@ _SOURCES = {
                      "tangent_basis"), ".implicit"),
     **dict.fromkeys(("DEFAULT_ATOL", "DEFAULT_RTOL", "RankDecision", "numerical_rank", "rank_of_values",
                       "check_rtol"), ".rank"),
-    **dict.fromkeys(("LocalRank", "largest_rank", "local_rank", "sample_manifold", "TangentExtent", "tangent_extent",
-                     "tangent_extents"),
+    **dict.fromkeys(("EXTENT_CUT", "LocalRank", "largest_rank", "local_rank", "sample_manifold", "TangentExtent",
+                     "tangent_extent", "tangent_extents"),
                     ".sampling"),
 }
 

@@ -44,6 +44,9 @@ def test_a_structure_that_only_flexes_is_a_cspace_singularity_with_no_freedom(bu
     assert report.cspace.kernel.shape[1] == flexes
     assert not report.actuator.singular and report.idle_freedoms == 0
     assert report.moving_idle_freedoms == 0  # the four-bar was said to move its end-effector with the actuator locked
+    cspace = report.to_dict()["cspace"]  # the verdict's margin: every secant far below the cut
+    assert len(cspace["secant_singular_values"]) == flexes and max(cspace["secant_singular_values"]) < 0.01
+    assert cspace["secant_cut"] == 0.5
 
 
 def test_the_batch_gives_the_flexes_as_the_single_call():
