@@ -348,6 +348,10 @@ class Report:
             lines.append(f"      ARCHITECTURE SINGULARITY: {self.moving_idle_freedoms} locked-actuator "
                          f"freedom(s) move the end-effector at every configuration of M: the design has an "
                          f"architecture singularity (every configuration is an actuator singularity)")
+            dropped = ((self.survey or {}).get("margins") or {}).get("actuator", {}).get("dropped")
+            if dropped is not None:
+                lines.append(f"      (margin: over the survey's samples of M the actuator rows' next singular "
+                             f"value reached at most {dropped:.2g} of its cut)")
         if self.second_order is not None:
             second = self.second_order
             lines.append(f"      second order: min |Q(v)| = {second.smallest:.3g} "

@@ -48,6 +48,14 @@ class Survey:
         by its own largest singular value (None without end-effector).
         ``m − joint_rank`` freedoms move neither an actuator nor the
         end-effector: the idle freedoms.
+    margins : dict or None
+        The margins of those decisions over the samples, per kind (``"constraint"``, ``"actuator"``,
+        ``"end_effector"``, ``"joint"``): ``{"kept": largest σ_r / cut, "dropped": largest σ_{r+1} / cut}``
+        with r the kind's rank, each singular value over the cut at its own sample (None where there is no
+        such value): how clearly the rank was reached somewhere, and how near a sample came to a larger one.
+        A design whose ``moving_idle_freedoms`` (an architecture singularity) rest on an actuator ``dropped``
+        near 1 is near the cut. None for a survey raised by a configuration (:meth:`including`) or read
+        without them.
     """
 
     samples: int
@@ -55,6 +63,7 @@ class Survey:
     actuator_rank: int
     end_effector_rank: object
     joint_rank: object = None
+    margins: object = None
 
     @property
     def freedom_rank(self):
@@ -111,9 +120,12 @@ class Survey:
         return Survey(self.samples, self.constraint_rank, *ranks)
 
     def to_dict(self):
-        return {"samples": self.samples, "constraint_rank": self.constraint_rank,
-                "actuator_rank": self.actuator_rank, "end_effector_rank": self.end_effector_rank,
-                "joint_rank": self.joint_rank}
+        result = {"samples": self.samples, "constraint_rank": self.constraint_rank,
+                  "actuator_rank": self.actuator_rank, "end_effector_rank": self.end_effector_rank,
+                  "joint_rank": self.joint_rank}
+        if self.margins is not None:
+            result["margins"] = {kind: dict(values) for kind, values in self.margins.items()}
+        return result
 
     @classmethod
     def from_dict(cls, data, where="survey"):
@@ -137,7 +149,52 @@ class Survey:
             if isinstance(value, bool) or not isinstance(value, int) or value < 0:
                 raise ValueError(f"{where}: field {name!r}: expected a non-negative integer, got {value!r}")
             values[name] = value
+        values["margins"] = _margins_from_dict(data.get("margins"), where)
         return cls(**values)
+
+
+#: the kinds of a survey's margins
+MARGIN_KINDS = ("constraint", "actuator", "end_effector", "joint")
+
+
+def _margins_from_dict(data, where):
+    """The margins of :meth:`Survey.to_dict` (None when absent), checked field by field."""
+    if data is None:
+        return None
+    if not isinstance(data, dict) or set(data) - set(MARGIN_KINDS):
+        raise ValueError(f"{where}: field 'margins': expected an object with the kinds {', '.join(MARGIN_KINDS)}")
+    margins = {}
+    for kind, values in data.items():
+        if not isinstance(values, dict) or set(values) != {"kept", "dropped"}:
+            raise ValueError(f"{where}: field 'margins.{kind}': expected an object with 'kept' and 'dropped'")
+        for name, value in values.items():
+            if value is not None and (isinstance(value, bool) or not isinstance(value, (int, float))
+                                      or not value >= 0 or value == float("inf")):
+                raise ValueError(f"{where}: field 'margins.{kind}.{name}': expected a finite number ≥ 0 or null, "
+                                 f"got {value!r}")
+        margins[kind] = {name: None if value is None else float(value) for name, value in values.items()}
+    return margins
+
+
+class _Margins:
+    """The largest σ_r / cut and σ_{r+1} / cut seen per kind over the samples, as ranks are raised."""
+
+    def __init__(self):
+        self.decisions = {}
+
+    def add(self, kind, decision):
+        self.decisions.setdefault(kind, []).append(decision)
+
+    def result(self, ranks):
+        margins = {}
+        for kind, decisions in self.decisions.items():
+            rank = ranks[kind]
+            kept = [float(decision.singular_values[rank - 1]) / decision.tolerance for decision in decisions
+                    if 0 < rank <= len(decision.singular_values)]
+            dropped = [float(decision.singular_values[rank]) / decision.tolerance for decision in decisions
+                       if rank < len(decision.singular_values)]
+            margins[kind] = {"kept": max(kept) if kept else None, "dropped": max(dropped) if dropped else None}
+        return margins
 
 
 def _larger(first, second):
@@ -257,7 +314,12 @@ def survey(model, rng, starts=None, random_count=24, walk_count=24, rtol=DEFAULT
     manifold = model.manifold
     starts = model.starts if starts is None else np.atleast_2d(starts)
     points = sample_manifold(manifold, rng, starts, random_count=random_count, walk_count=walk_count)
-    ranks = [jacobian_rank(manifold, point, rtol=rtol).rank for point in points]
+    margins = _Margins()
+    ranks = []
+    for point in points:
+        decision = jacobian_rank(manifold, point, rtol=rtol)
+        margins.add("constraint", decision)
+        ranks.append(decision.rank)
     constraint_rank = max(ranks)
     dof = manifold.ambient.dim - constraint_rank
     actuator_rank = 0
@@ -275,14 +337,22 @@ def survey(model, rng, starts=None, random_count=24, walk_count=24, rtol=DEFAULT
             basis = tangent_extent(manifold, point, basis).moving
         blocks = decision_blocks(model, point, basis)
         actuator, actuator_scale, end_effector, end_effector_scale = blocks
-        actuator_rank = max(actuator_rank, numerical_rank(actuator, rtol=rtol, scale=actuator_scale).rank)
+        decisions = {"actuator": numerical_rank(actuator, rtol=rtol, scale=actuator_scale)}
+        if end_effector is not None:
+            decisions["end_effector"] = numerical_rank(end_effector, rtol=rtol, scale=end_effector_scale)
+            decisions["joint"] = numerical_rank(stacked(*blocks), rtol=rtol, scale=1.0)
+        for kind, decision in decisions.items():
+            margins.add(kind, decision)
+        actuator_rank = max(actuator_rank, decisions["actuator"].rank)
         if end_effector is None:
             if actuator_rank == bounds[0]:
                 break
             continue
-        end_effector_rank = max(end_effector_rank,
-                                numerical_rank(end_effector, rtol=rtol, scale=end_effector_scale).rank)
-        joint_rank = max(joint_rank, numerical_rank(stacked(*blocks), rtol=rtol, scale=1.0).rank)
+        end_effector_rank = max(end_effector_rank, decisions["end_effector"].rank)
+        joint_rank = max(joint_rank, decisions["joint"].rank)
         if (actuator_rank, end_effector_rank, joint_rank) == bounds:
             break
-    return Survey(len(points), constraint_rank, actuator_rank, end_effector_rank, joint_rank)
+    ranks = {"constraint": constraint_rank, "actuator": actuator_rank, "end_effector": end_effector_rank,
+             "joint": joint_rank}
+    return Survey(len(points), constraint_rank, actuator_rank, end_effector_rank, joint_rank,
+                  margins.result(ranks))

@@ -33,7 +33,8 @@ _FORMAT = "closedchain-survey"
 #: far from M now reach it, and are samples), and every step is capped in dimensionless units (the caps added
 #: radians and lengths, so the samples changed with the unit of length); 4: where DΦ is short of its rows the
 #: ranks are taken on the directions M extends along (a part that only flexes counted as idle freedoms that
-#: move the end-effector). A file of an earlier version is refused, not reused
+#: move the end-effector), and the survey carries its margins. A file of an earlier version is refused, not
+#: reused
 _VERSION = 4
 #: largest survey cache file read (bytes)
 _LARGEST_FILE = 1 << 20

@@ -111,8 +111,9 @@ def test_a_shared_survey_classifies_as_one_survey_per_configuration(slider_crank
             assert (row[kind]["rank"], row[kind]["expected_rank"]) == \
                 (alone[kind]["rank"], alone[kind]["expected_rank"]), (row["configuration_name"], kind)
         assert row["actuator"]["degeneracy"] == alone["actuator"]["degeneracy"]
-        assert {key: value for key, value in row["survey"].items() if key != "samples"} == \
-            {key: value for key, value in alone["survey"].items() if key != "samples"}
+        # the ranks; the samples and the margins over them differ (the shared survey walks from every start)
+        assert {key: value for key, value in row["survey"].items() if key not in ("samples", "margins")} == \
+            {key: value for key, value in alone["survey"].items() if key not in ("samples", "margins")}
 
 
 @pytest.mark.parametrize("item", entries(), ids=lambda item: item.name)

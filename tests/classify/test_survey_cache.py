@@ -102,3 +102,21 @@ def test_a_survey_of_a_mechanism_without_end_effector_has_no_end_effector_ranks(
     path.write_text(json.dumps(data))
     with pytest.raises(SurveyCacheError, match="'joint_rank': expected null"):
         read_survey(path, model)
+
+
+def test_the_survey_carries_the_margins_of_its_rank_decisions():
+    """The survey's ranks decide the dof, the idle freedoms and the architecture flag: each now comes with its
+    margins over the samples (largest σ_r and σ_{r+1} over the cut). Gosselin & Angeles 1990 eq. 87 (similar
+    hexagons): the actuator rows never reach rank 6 on M, by far (σ₆ at most ~1e-8 of the cut), the flag holds."""
+    from classify import Survey, classify
+    from mechanisms import catalogue, home
+
+    mechanism = catalogue.entry("gough-stewart").mechanism(configuration="eq87_parallel_legs")
+    report = classify(mechanism, home(mechanism))
+    margins = report.survey["margins"]
+    assert report.architecture_singular and report.survey["actuator_rank"] == 5
+    assert margins["actuator"]["kept"] > 1e3 and margins["actuator"]["dropped"] < 1e-3
+    assert "margin: over the survey's samples" in report.to_text()
+    assert Survey.from_dict(report.survey).to_dict() == report.survey
+    with pytest.raises(ValueError, match="margins.actuator.dropped"):
+        Survey.from_dict({**report.survey, "margins": {**margins, "actuator": {"kept": 1.0, "dropped": -1.0}}})
