@@ -138,8 +138,8 @@ def three_prr_kappa(length, poses, signs, matrix="B-1A", platform_radius=100.0, 
 
 
 def optimal_characteristic_length(kappa, start_length, start_posture, length_bounds=None, rng=None, restarts=4,
-                                  spread=0.2):
-    """Minimise κ over L and the posture (scipy.optimize, Nelder–Mead on (log L, posture)).
+                                  spread=0.2, scales=None):
+    """Minimise κ over L and the posture (scipy.optimize, Nelder–Mead on (log L, posture / `scales`)).
 
     Parameters
     ----------
@@ -152,8 +152,11 @@ def optimal_characteristic_length(kappa, start_length, start_posture, length_bou
     rng : numpy.random.Generator, optional
         Perturbs the starts of the restarts (default seeded 0).
     restarts : int
-        Extra starts, each the best so far moved by `spread` (relative in L, absolute in the posture
-        scaled by its size + 1).
+        Extra starts, each the best so far moved by `spread` (relative in L, in the scaled posture by its
+        size + 1).
+    scales : array_like, shape=[p], optional
+        A size of each posture coordinate (the 3-PRR: l, l, 1 for x, y, φ): the search runs on posture /
+        `scales`, so that it takes the same steps in any unit of length (default 1: the posture's own units).
 
     Returns
     -------
@@ -165,15 +168,17 @@ def optimal_characteristic_length(kappa, start_length, start_posture, length_bou
     rng = np.random.default_rng(0) if rng is None else rng
     low, high = (start_length * 1e-3, start_length * 1e3) if length_bounds is None else length_bounds
     start_posture = np.asarray(start_posture, dtype=float)
+    scales = np.ones_like(start_posture) if scales is None else np.asarray(scales, dtype=float)
+    reference = float(start_length)
 
     def objective(variables):
-        length = float(np.exp(variables[0]))
+        length = reference * float(np.exp(variables[0]))
         if not low <= length <= high:
             return 1e12
-        value = float(kappa(length, variables[1:]))
+        value = float(kappa(length, variables[1:] * scales))
         return value if np.isfinite(value) else 1e12
 
-    best = np.concatenate([[np.log(start_length)], start_posture])
+    best = np.concatenate([[0.0], start_posture / scales])
     best_value = objective(best)
     for attempt in range(restarts + 1):
         start = best if attempt == 0 else best + spread * rng.standard_normal(best.shape) * (np.abs(best) + 1)
@@ -181,12 +186,13 @@ def optimal_characteristic_length(kappa, start_length, start_posture, length_bou
                           options={"xatol": 1e-10, "fatol": 1e-12, "maxiter": 4000, "maxfev": 8000})
         if result.fun < best_value:
             best, best_value = result.x, float(result.fun)
-    return CharacteristicLength(float(np.exp(best[0])), "optimised", tuple(float(value) for value in best[1:]),
-                                best_value, "Chablat, Caro, Wenger & Angeles 2002 §3.2 (κ(Ā) minimised over L "
-                                            "and the posture)")
+    return CharacteristicLength(reference * float(np.exp(best[0])), "optimised",
+                                tuple(float(value) for value in best[1:] * scales), best_value,
+                                "Chablat, Caro, Wenger & Angeles 2002 §3.2 (κ(Ā) minimised over L and the posture)")
 
 
-def isotropic_postures(kappa, starts, tolerance=ISOTROPY_TOLERANCE, separation=1e-4, max_evaluations=8000):
+def isotropic_postures(kappa, starts, tolerance=ISOTROPY_TOLERANCE, separation=1e-4, max_evaluations=8000,
+                       scales=None):
     """Postures where κ = 1, by minimising κ over the posture from each start (Nelder–Mead).
 
     Parameters
@@ -197,9 +203,13 @@ def isotropic_postures(kappa, starts, tolerance=ISOTROPY_TOLERANCE, separation=1
     tolerance : float
         κ − 1 ≤ tolerance counts as isotropic (the margin is returned with each posture).
     separation : float
-        Postures closer than this (relative to their size + 1) are the same.
+        Postures closer than this in every coordinate, in units of `scales`, are the same.
     max_evaluations : int
         Of κ, per start.
+    scales : array_like, shape=[p], optional
+        A size of each posture coordinate (the 3-PRR: l, l, 1 for x, y, φ): the search runs on posture /
+        `scales` and compares postures there, so that neither the steps nor the count of postures found depend
+        on the unit of length (default 1: the posture's own units).
 
     Returns
     -------
@@ -208,10 +218,12 @@ def isotropic_postures(kappa, starts, tolerance=ISOTROPY_TOLERANCE, separation=1
     """
     from scipy.optimize import minimize
 
+    starts = np.atleast_2d(np.asarray(starts, dtype=float))
+    scales = np.ones(starts.shape[-1]) if scales is None else np.asarray(scales, dtype=float)
     found = []
-    for start in np.atleast_2d(np.asarray(starts, dtype=float)):
-        def objective(posture):
-            value = float(kappa(posture))
+    for start in starts / scales:
+        def objective(scaled):
+            value = float(kappa(scaled * scales))
             return value if np.isfinite(value) else 1e12
         result = minimize(objective, start, method="Nelder-Mead",
                           options={"xatol": 1e-10, "fatol": 1e-13, "maxiter": max_evaluations,
@@ -219,9 +231,9 @@ def isotropic_postures(kappa, starts, tolerance=ISOTROPY_TOLERANCE, separation=1
         margin = float(result.fun) - 1.0
         if margin > tolerance:
             continue
-        posture = np.asarray(result.x, dtype=float)
-        if not any(np.max(np.abs(posture - known) / (np.abs(known) + 1)) < separation for known, _ in found):
-            found.append((posture, margin))
+        scaled = np.asarray(result.x, dtype=float)
+        if not any(np.max(np.abs(scaled - known / scales)) < separation for known, _ in found):
+            found.append((scaled * scales, margin))
     return found
 
 
@@ -233,7 +245,7 @@ LENGTH_PRECISION = 1e-8
 SWEEP_STEPS = 8
 
 
-def length_window(length, value, tolerance=0.0):
+def length_window(length, value, tolerance=0.0, exponent=1):
     """The lengths excluded by κ's minimum over the postures at one L: no posture has κ ≤ 1 + `tolerance` there.
 
     D(L') = D(L) diag(L'/L on the rotation rows, 1 on the others) changes every singular value of J̄ by a factor
@@ -242,7 +254,10 @@ def length_window(length, value, tolerance=0.0):
     `value` and `value` / (1 + `tolerance`). At an isotropic posture q of length L_q (J̄(L_q) J̄(L_q)ᵀ = τ² 1,
     Chablat, Caro, Wenger & Angeles 2002 §3.3) κ(L, q) = max(L/L_q, L_q/L) exactly, so the window is as wide
     as it can be: at L above the largest isotropic L, L/`value` is that largest L wherever the minimum of κ
-    over the postures is reached on the isotropic family (the 3-PRR, the planar 3-RRR).
+    over the postures is reached on the isotropic family (the 3-PRR, the planar 3-RRR). Where L also divides
+    the columns of some actuated rates (angular ones, beside prismatic ones:
+    :func:`classify.conditioning.actuator_lengths`), κ changes by up to max(ρ, 1/ρ)² (`exponent` 2) and the
+    window is that of (`value` / (1 + `tolerance`))^½.
 
     Parameters
     ----------
@@ -251,6 +266,8 @@ def length_window(length, value, tolerance=0.0):
     value : float
         min over the postures of κ(J̄(L)) (≥ 1); only a global minimum excludes anything.
     tolerance : float
+    exponent : int
+        κ(L', q) ≥ κ(L, q) / max(ρ, 1/ρ)^`exponent`.
 
     Returns
     -------
@@ -258,14 +275,14 @@ def length_window(length, value, tolerance=0.0):
         (low, high): no L' in the open interval has a posture with κ ≤ 1 + `tolerance` (empty where `value` ≤
         1 + `tolerance`).
     """
-    ratio = float(value) / (1.0 + tolerance)
+    ratio = (float(value) / (1.0 + tolerance)) ** (1.0 / exponent)
     if not ratio > 1.0:
         return float(length), float(length)
     return float(length) / ratio, float(length) * ratio
 
 
 def largest_isotropic_length(kappa, length, posture, high, tolerance=ISOTROPY_TOLERANCE, max_evaluations=600,
-                             precision=LENGTH_PRECISION, length_at=None, sweep_steps=SWEEP_STEPS):
+                             precision=LENGTH_PRECISION, length_at=None, sweep_steps=SWEEP_STEPS, exponent=1):
     """The largest L at which an isotropic posture exists, at most `high`, given an isotropic (L, posture).
 
     Where κ = 1 is reached, it is reached along a family: on the 3-PRR every γ gives an isotropic posture
@@ -313,6 +330,8 @@ def largest_isotropic_length(kappa, length, posture, high, tolerance=ISOTROPY_TO
         ``length_at(posture) -> (L, κ)``: the L minimising κ at a posture, and κ there.
     sweep_steps : int
         Windows swept down from `high` before bisecting (at least 1: `high` is always tried).
+    exponent : int
+        Of :func:`length_window`: 2 where L also scales some actuated rates.
 
     Returns
     -------
@@ -341,7 +360,7 @@ def largest_isotropic_length(kappa, length, posture, high, tolerance=ISOTROPY_TO
             length, posture, best = trial, found, value
             break
         steps, upper, start = steps + 1, trial, found
-        excluded = length_window(trial, value, tolerance)[0] if value < 1e12 else None
+        excluded = length_window(trial, value, tolerance, exponent)[0] if value < 1e12 else None
         if excluded is None:
             break
         trial = excluded * (1.0 - precision / 2.0)
@@ -361,7 +380,7 @@ def largest_isotropic_length(kappa, length, posture, high, tolerance=ISOTROPY_TO
         if isotropic:
             length, posture, best = trial, found, value
         else:
-            low, top = length_window(trial, value, tolerance)
+            low, top = length_window(trial, value, tolerance, exponent)
             upper = low if length < low and top >= upper and value < 1e12 else trial
     if length_at is not None:
         snapped, value = length_at(posture)
@@ -459,8 +478,9 @@ def three_prr_characteristic_length(platform_radius=100.0, base_radius=200.0, le
 # ------------------------------------------------------------------------------------------------ any mechanism
 
 def _posture_chart(mechanism, point, length):
-    """``v -> (q, J̄₁)``: the configuration ``project(point ⊕ T v)`` (T a tangent basis at `point`, v of the
-    dimension of M) and its J̄ at L = 1; (None, None) where the projection fails."""
+    """``v -> (q, J̄)``: the configuration ``project(point ⊕ T v)`` (T a tangent basis at `point`, orthonormal
+    for the dimensionless inner product ⟨·,·⟩_s, so v is dimensionless; m = dim M entries) and its J̄ at
+    L = `length` (:func:`classify.conditioning.mechanism_jacobians`); (None, None) where the projection fails."""
     from manifold import ProjectionError, project, tangent_basis
 
     from .conditioning import mechanism_jacobians
@@ -475,7 +495,7 @@ def _posture_chart(mechanism, point, length):
         except ProjectionError:   # this posture is not on M nearby
             return None, None
         configuration = np.asarray(configuration, dtype=float)
-        jacobian = mechanism_jacobians(mechanism, configuration[None], 1.0)[0][0]
+        jacobian = mechanism_jacobians(mechanism, configuration[None], length)[0][0]
         return configuration, jacobian
     return chart, basis.shape[1]
 
@@ -484,15 +504,21 @@ def mechanism_optimal_length(mechanism, point, rng=None, restarts=3, spread=0.5,
                              length_bounds=None, tolerance=ISOTROPY_TOLERANCE):
     """L minimising κ(J̄) over L and the posture, for any mechanism with a pose output, and its isotropic postures.
 
-    J̄(L) = D(L) J̄(1), D = diag(L on the rotation rows, 1 on the others) (the end-effector metric
-    H = D², :func:`classify.metrics.end_effector_metric`), so for each posture the best L is a 1-D bounded
-    minimisation (``minimize_scalar`` on log L); the posture is minimised over by Nelder–Mead in a chart of M
-    at `point` (``project(point ⊕ T v)``, T a tangent basis, v ∈ ℝ^m, m = dim M) from `point` and `restarts`
-    random starts (v ~ `spread`·N(0, 1)). Postures with κ − 1 ≤ `tolerance` at the optimal L are isotropic
-    (Chablat, Caro, Wenger & Angeles 2002 §3.3: K̄K̄ᵀ = τ²1). Where the minimum is isotropic, κ = 1 holds
-    along a family of (L, posture) (§3.4: L = √2 r sin γ on the 3-PRR), and the minimiser is an arbitrary
-    member: L is then continued to the family's largest value (:func:`largest_isotropic_length`), the
-    paper's γ = π/2 on the 3-PRR, which depends neither on the start nor on the chart, axis signs or units.
+    With ρ = L / L₀, L₀ the mechanism's characteristic length, J̄(L) = D(ρ) J̄(L₀) C(ρ), D = diag(ρ on the
+    rotation rows, 1 on the others) (the end-effector metric H = diag(L², …, 1, …),
+    :func:`classify.metrics.end_effector_metric`) and C = diag(1/ρ on the angular actuated rates, 1 on the
+    others) (:func:`classify.conditioning.actuator_lengths`; a common factor, without effect on κ, unless
+    revolute and prismatic joints are both actuated), so for each posture the best L is a 1-D bounded
+    minimisation (``minimize_scalar`` on log ρ); the posture is minimised over by Nelder–Mead in a chart of M
+    at `point` (``project(point ⊕ T v)``, T a tangent basis orthonormal for the dimensionless inner product,
+    v ∈ ℝ^m, m = dim M) from `point` and `restarts` random starts (v ~ `spread`·N(0, 1)). Every quantity
+    searched over or compared (log ρ, v, the distance between two postures in units of the tangent scales s)
+    is dimensionless, so the search takes the same steps in any unit of length and L scales with it. Postures
+    with κ − 1 ≤ `tolerance` at the optimal L are isotropic (Chablat, Caro, Wenger & Angeles 2002 §3.3:
+    K̄K̄ᵀ = τ²1). Where the minimum is isotropic, κ = 1 holds along a family of (L, posture) (§3.4:
+    L = √2 r sin γ on the 3-PRR), and the minimiser is an arbitrary member: L is then continued to the
+    family's largest value (:func:`largest_isotropic_length`), the paper's γ = π/2 on the 3-PRR, which
+    depends neither on the start nor on the chart, axis signs or units.
 
     Parameters
     ----------
@@ -516,22 +542,29 @@ def mechanism_optimal_length(mechanism, point, rng=None, restarts=3, spread=0.5,
         ``method="optimised"``, ``posture`` = the optimal configuration's joint displacements from home (one
         per coordinate, ``mechanism.coordinate_names``), ``kappa`` = κ(J̄) there.
     isotropic : list of (dict, float)
-        (joint displacements, κ − 1) of the minima with κ − 1 ≤ `tolerance` at the L found, distinct; the
-        posture of the largest isotropic L first.
+        (joint displacements, κ − 1) of the minima with κ − 1 ≤ `tolerance` at the L found, distinct (apart by
+        more than :data:`POSTURE_SEPARATION` in some coordinate, in units of its tangent scale); the posture of
+        the largest isotropic L first.
     """
     from mechanisms import to_displacements
+    from mechanisms.kinematics import kinematics_of
     from scipy.optimize import minimize, minimize_scalar
 
+    from .conditioning import actuator_lengths
     from .metrics import end_effector_metric
+    from .model import model_of
 
     rng = np.random.default_rng(0) if rng is None else rng
     point = np.asarray(point, dtype=float)
     base = float(mechanism.characteristic_length)
     low, high = (base * 1e-3, base * 1e3) if length_bounds is None else length_bounds
-    rotation_rows = np.diag(end_effector_metric(mechanism, 2.0)) != 1.0
+    rotation_rows = np.diag(end_effector_metric(mechanism, 2.0 * base)) != np.diag(end_effector_metric(mechanism,
+                                                                                                        base))
     if not np.any(rotation_rows):
         raise ValueError(f"{mechanism.name}: no orientation output: no characteristic length is needed")
-    chart, dimension = _posture_chart(mechanism, point, 1.0)
+    angular_columns = actuator_lengths(mechanism, model_of(mechanism).actuators, 2.0) != 1.0
+    exponent = 2 if np.any(angular_columns) and not np.all(angular_columns) else 1
+    chart, dimension = _posture_chart(mechanism, point, base)
     cache = {}
 
     def evaluate(posture):
@@ -540,14 +573,24 @@ def mechanism_optimal_length(mechanism, point, rng=None, restarts=3, spread=0.5,
             cache[key] = chart(posture)
         return cache[key]
 
-    def scaled(jacobian, length):
-        return np.where(rotation_rows, length, 1.0)[:, None] * jacobian
+    def scaled(jacobian, ratio):   # J̄ at L = ρ L₀ from J̄ at L₀
+        return (np.where(rotation_rows, ratio, 1.0)[:, None] * jacobian
+                * np.where(angular_columns, 1.0 / ratio, 1.0)[None, :])
 
-    def best_length(jacobian):
-        result = minimize_scalar(lambda logarithm: _finite(singular_value_ratio(scaled(jacobian,
-                                                                                         np.exp(logarithm)))),
-                                 bounds=(np.log(low), np.log(high)), method="bounded", options={"xatol": 1e-10})
-        return float(np.exp(result.x)), float(result.fun)
+    bounds = (float(np.log(low / base)), float(np.log(high / base)))
+
+    def best_length(jacobian, refine=False):
+        def value(logarithm):
+            return _finite(singular_value_ratio(scaled(jacobian, np.exp(logarithm))))
+        result = minimize_scalar(value, bounds=bounds, method="bounded", options={"xatol": 1e-10})
+        logarithm, kappa = float(result.x), float(result.fun)
+        if refine:   # the bounded search stops within √ε ‖log ρ‖ (≤ 1e-7): once more about its minimiser
+            offsets = (max(bounds[0] - logarithm, -REFINE_WIDTH), min(bounds[1] - logarithm, REFINE_WIDTH))
+            again = minimize_scalar(lambda offset: value(logarithm + offset), bounds=offsets, method="bounded",
+                                    options={"xatol": 1e-13})
+            if again.fun <= kappa:
+                logarithm, kappa = logarithm + float(again.x), float(again.fun)
+        return base * float(np.exp(logarithm)), kappa
 
     def objective(posture):
         _, jacobian = evaluate(posture)
@@ -564,23 +607,23 @@ def mechanism_optimal_length(mechanism, point, rng=None, restarts=3, spread=0.5,
         minima.append((float(result.fun), np.asarray(result.x)))
     value, posture = min(minima, key=lambda item: item[0])
     configuration, jacobian = evaluate(posture)
-    length, kappa = best_length(jacobian)
+    length, kappa = best_length(jacobian, refine=True)
     reference = ("κ(J̄) minimised over L and the posture (Chablat, Caro, Wenger & Angeles 2002 §3.2-3.4), "
-                 "J̄ = H^½ Df T (Dπ T)⁻¹")
+                 "J̄ = H^½ Df T (Λ E^½ Dπ T)⁻¹")
     if kappa - 1.0 <= tolerance:   # an isotropic family: its largest L (2002 §3.4), not the optimiser's pick
         def kappa_at(trial_length, trial_posture):
             _, trial_jacobian = evaluate(trial_posture)
             if trial_jacobian is None or not np.all(np.isfinite(trial_jacobian)):
                 return np.inf
-            return singular_value_ratio(scaled(trial_jacobian, trial_length))
+            return singular_value_ratio(scaled(trial_jacobian, trial_length / base))
 
         def length_at(trial_posture):
             _, trial_jacobian = evaluate(trial_posture)
-            return best_length(trial_jacobian)
+            return best_length(trial_jacobian, refine=True)
 
         length, posture, kappa = largest_isotropic_length(kappa_at, length, posture, high, tolerance,
                                                           max_evaluations=max(max_evaluations, 600),
-                                                          length_at=length_at)
+                                                          length_at=length_at, exponent=exponent)
         configuration, jacobian = evaluate(posture)
         minima.insert(0, (kappa, posture))
         reference += ("; κ = 1 on a family of (L, posture): the largest L with an isotropic posture (2002 §3.4: "
@@ -592,6 +635,12 @@ def mechanism_optimal_length(mechanism, point, rng=None, restarts=3, spread=0.5,
     def displacements(configuration):
         return {name: value for name, value in to_displacements(mechanism, configuration).items()}
 
+    ambient = kinematics_of(mechanism).ambient
+
+    def distinct(configuration, known):   # dimensionless: coordinate differences in units of their scales
+        difference = ambient.inverse_retract(known, configuration) / ambient.tangent_scales
+        return np.max(np.abs(difference)) >= POSTURE_SEPARATION
+
     found = CharacteristicLength(length, "optimised",
                                  tuple(float(entry) for entry in _coordinates(displacements(configuration))),
                                  kappa, reference)
@@ -600,11 +649,19 @@ def mechanism_optimal_length(mechanism, point, rng=None, restarts=3, spread=0.5,
         configuration, jacobian = evaluate(candidate)
         if jacobian is None:
             continue
-        margin = float(singular_value_ratio(scaled(jacobian, length))) - 1.0
-        if margin <= tolerance and not any(np.max(np.abs(configuration - known)) < 1e-6 for known in seen):
+        margin = float(singular_value_ratio(scaled(jacobian, length / base))) - 1.0
+        if margin <= tolerance and all(distinct(configuration, known) for known in seen):
             seen.append(configuration)
             isotropic.append((displacements(configuration), margin))
     return found, isotropic
+
+
+#: half-width (in log ρ) of :func:`mechanism_optimal_length`'s second search for the best L at a posture, about
+#: the first one's minimiser (which is within √ε ‖log ρ‖ ≤ 1e-7 of it, ρ ≤ 1e3)
+REFINE_WIDTH = 1e-6
+#: two isotropic postures of :func:`mechanism_optimal_length` are the same when no coordinate differs by this
+#: much in units of its tangent scale (radians; lengths over the characteristic length)
+POSTURE_SEPARATION = 1e-6
 
 
 def _finite(value):

@@ -15,7 +15,10 @@ direct-kinematics matrix, B the inverse-kinematics matrix, t the output twist,
 * ``"lambda"``: Park & Kim's condition number λ₁/λₙ (Park & Kim 1999 eq. 3),
   the ratio of the extreme roots of ``det(λG − JᵀHJ) = 0``. With unit actuator
   weights and H = diag(L², …, 1, …) it equals κ(J̄)²: λ's are squared singular
-  values.
+  values. For a mechanism without a paper relation G is taken on the actuated
+  rates in units of length (angular ones multiplied by L, as J̄'s,
+  :func:`mechanism_jacobians`), so that λ₁/λₙ = κ(J̄)² does not change with the
+  unit of length where revolute and prismatic joints are both actuated.
 
 Definitions of κ (both papers call each "the condition number"):
 
@@ -278,14 +281,21 @@ def condition_numbers(direct, inverse, length=1.0, orientation_columns=(), defin
 # ------------------------------------------------------------------------------------------------ any mechanism
 
 def mechanism_jacobians(mechanism, points, length=None):
-    """The normalised Jacobian J̄ = H^½ Df T (E^½ Dπ T)⁻¹ of a mechanism at stacks of configurations.
+    """The normalised Jacobian J̄ = H^½ Df T (Λ E^½ Dπ T)⁻¹ of a mechanism at stacks of configurations.
 
     Output twists per unit actuated rates, with the rotation rows of a pose
     output multiplied by L (H = the end-effector metric of
-    :func:`classify.metrics.end_effector_metric`, diag(L², …) on rotations): the
-    paper's J̄ = Ā⁻¹B up to an orthogonal change of the output frame (body
-    twists) and its sign convention. It does not depend on the basis T of T_pM
-    (T → T R cancels), on the chart, on joint zeros or axis signs.
+    :func:`classify.metrics.end_effector_metric`, diag(L², …) on rotations) and
+    the actuated angles' rates multiplied by L too (Λ = :func:`actuator_lengths`:
+    L on an angular actuated coordinate, 1 on a prismatic one), so that every
+    input and output is a rate of length, as the derived relation's (2002
+    eq. 7's homogenisation): the paper's J̄ = Ā⁻¹B up to an orthogonal change of
+    the output frame (body twists) and its sign convention. Λ changes nothing
+    where the actuators are all prismatic or all angular (a common factor), but
+    where both kinds are actuated (the Eclipse) J̄ without it had columns of two
+    units and κ(J̄) changed with the unit of length. It does not depend on the
+    basis T of T_pM (T → T R cancels), on the chart, on joint zeros, axis signs or
+    the unit of length (L scaled with it).
 
     Parameters
     ----------
@@ -299,9 +309,11 @@ def mechanism_jacobians(mechanism, points, length=None):
     Returns
     -------
     jacobians : ndarray, shape=[b, n, n]
-        NaN where the actuators do not parametrise M (1/κ(E^½ Dπ T) = 0 up to rounding).
+        NaN where the actuators do not parametrise M: 1/κ ≤ 1e-12 of the unit actuator rows times T
+        (:func:`classify.metrics.unit_rows` of E^½ Dπ, dimensionless: neither the weights nor the unit of length
+        decide).
     actuator_blocks : ndarray, shape=[b, n, n]
-        E^½ Dπ T.
+        Λ E^½ Dπ T (rates of length).
     output_blocks : ndarray, shape=[b, n, n]
         H^½ Df T.
 
@@ -311,11 +323,13 @@ def mechanism_jacobians(mechanism, points, length=None):
         When the numbers of actuators, outputs and degrees of freedom differ.
     """
     from mechanisms import end_effector_jacobian
+    from mechanisms.kinematics import kinematics_of
 
-    from .metrics import metric_root
+    from .metrics import metric_root, unit_rows
     from .model import model_of
 
     model = model_of(mechanism, length_scale=length)
+    resolved = model.mechanism.characteristic_length if length is None else float(length)
     points = np.atleast_2d(np.asarray(points, dtype=float))
     actuator_count, output_count = model.actuators.shape[0], model.end_effector_dimension
     basis = tangent_bases(mechanism, points)
@@ -323,9 +337,11 @@ def mechanism_jacobians(mechanism, points, length=None):
     if not actuator_count == output_count == freedom:
         raise ValueError(f"{mechanism.name}: {actuator_count} actuated coordinates, {output_count} outputs and "
                          f"{freedom} degrees of freedom; condition numbers of A⁻¹B need n of each")
-    actuator_blocks = model.actuators @ basis
+    input_lengths = actuator_lengths(mechanism, model.actuators, resolved)
+    actuator_blocks = input_lengths[:, None] * (model.actuators @ basis)
     output_blocks = metric_root(model.end_effector_metric) @ end_effector_jacobian(mechanism, points) @ basis
-    regular = inverse_condition(actuator_blocks) > 1e-12
+    scales = kinematics_of(mechanism).ambient.tangent_scales
+    regular = inverse_condition(unit_rows(model.actuators, scales) @ basis) > 1e-12
     safe = np.where(regular[:, None, None], actuator_blocks, np.eye(freedom))
     jacobians = np.swapaxes(np.linalg.solve(np.swapaxes(safe, -1, -2), np.swapaxes(output_blocks, -1, -2)),
                             -1, -2)
@@ -350,7 +366,10 @@ def tangent_bases(mechanism, points):
 
 
 def _constraint_rank(scaled):
-    """The largest numerical rank of DΦ·diag(s) over the stack (rtol 1e-9 against σ₁)."""
+    """The largest numerical rank of DΦ·diag(s) over the stack (rtol 1e-9 against σ₁).
+
+    DΦ·diag(s) is dimensionless (loop rows over the characteristic length, slide columns times it): its singular
+    values, and so this rank, are the same in any unit of length."""
     from .metrics import singular_values
 
     if scaled.size == 0:  # no loop (a serial chain, a tree: DΦ has no rows), or no configuration
@@ -375,7 +394,8 @@ def mechanism_condition_numbers(mechanism, points, length=None, rtol=1e-9):
     -------
     ConditionNumbers
         ``"A-1B"``, ``"B-1A"`` from :func:`mechanism_jacobians` (batched); ``"lambda"`` from
-        :func:`classify.metrics.proper_values` (Park & Kim); ``"A"`` and ``"B"`` of the derived relation
+        :func:`classify.metrics.proper_values` (Park & Kim, G on the actuated rates in units of length: Λ E^½ Dπ T,
+        so λ₁/λₙ = κ(J̄)²); ``"A"`` and ``"B"`` of the derived relation
         (:func:`derived_relation_ratios`, batched): rows of ``[B A]`` orthonormal in coordinates of one unit,
         the length, so that κ(A), κ(B) do not change with the unit of length (another F gives other κ(A),
         κ(B)).
@@ -395,8 +415,7 @@ def mechanism_condition_numbers(mechanism, points, length=None, rtol=1e-9):
         values = proper_values(actuator_blocks[regular], output_blocks[regular], np.eye(count), count)
         with np.errstate(divide="ignore"):
             lambdas[regular] = values[:, 0] / values[:, -1]
-    input_lengths = actuator_lengths(mechanism, model.actuators, resolved)
-    direct, inverse = derived_relation_ratios(input_lengths[:, None] * actuator_blocks, output_blocks, rtol)
+    direct, inverse = derived_relation_ratios(actuator_blocks, output_blocks, rtol)   # Λ E^½ Dπ T: lengths
     values = {"A": direct, "B": inverse, "A-1B": jacobian_ratio, "B-1A": jacobian_ratio.copy(), "lambda": lambdas}
     return ConditionNumbers(values, float(resolved), "singular_value_ratio", DERIVED_NORMALISATION)
 
@@ -404,7 +423,7 @@ def mechanism_condition_numbers(mechanism, points, length=None, rtol=1e-9):
 #: how the derived relation's A and B are normalised (recorded on the results)
 DERIVED_NORMALISATION = ("derived relation: rows of [B A] orthonormal in coordinates of one unit, the length "
                          "(L E^½ θ̇ for angular actuated rates, E^½ θ̇ for prismatic ones; H^½ ẋ with "
-                         "H = diag(L², 1, …) on rotations)")
+                         "H = diag(L², 1, …) on rotations); J̄ and λ on the same rates")
 
 
 def actuator_lengths(mechanism, actuators, length):

@@ -341,8 +341,12 @@ def mechanism_map(mechanism, points, reachable, axes, axis_names, length=None, m
         ``inverse["A-1B"]`` = ``inverse["B-1A"]`` = 1/κ(J̄) from the batched Jacobians
         (:func:`classify.conditioning.mechanism_jacobians`; 0 where the actuators do not parametrise M or
         1/κ ≤ :data:`ROUNDING_INVERSE`);
-        ``inverse["lambda"]`` = λₙ/λ₁ from :func:`classify.batch.classify_many`'s ``condition_number``
-        (Park & Kim 1999 eq. 3; 0 where it is undefined: an actuator or end-effector singularity).
+        ``inverse["lambda"]`` = λₙ/λ₁ (Park & Kim 1999 eq. 3) = (1/κ(J̄))², the λ's being J̄'s squared
+        singular values with G on the actuated rates in units of length
+        (:func:`classify.conditioning.mechanism_condition_numbers`); 0 where
+        :func:`classify.batch.classify_many`'s ``condition_number`` is undefined (an actuator or end-effector
+        singularity). The classification's own λ weighs the actuated rates as given, which changes with the
+        unit of length where revolute and prismatic joints are both actuated.
         ``extra["singular"]`` (bool, grid shape): the batched classification finds a singularity of any kind;
         ``extra["kinds"]`` its columns, shape ``[*shape, 3]`` (:data:`classify.report.KINDS` order);
         ``extra["points"]`` the configurations.
@@ -370,8 +374,7 @@ def mechanism_map(mechanism, points, reachable, axes, axis_names, length=None, m
         inverse["B-1A"][rows] = values
         result = classify_many(model, points[rows], survey=survey, rtol=rtol)
         condition = np.asarray(result.condition_number, dtype=float)
-        with np.errstate(divide="ignore"):
-            inverse["lambda"][rows] = np.where(np.isfinite(condition) & (condition > 0), 1.0 / condition, 0.0)
+        inverse["lambda"][rows] = np.where(np.isfinite(condition) & (condition > 0), values ** 2, 0.0)
         kinds[rows] = result.singular
         if derived:
             numbers = mechanism_condition_numbers(mechanism, points[rows], length, rtol=max(rtol, 1e-9))

@@ -283,7 +283,7 @@ def _three_prr_length(mechanism, point, length):
     pose, signs = three_prr_pose_of(mechanism, point)
     optimised = optimal_characteristic_length(
         lambda trial, posture: three_prr_kappa(trial, posture, signs, "B-1A", radius, base, leg),
-        math.sqrt(2.0) * radius, pose, rng=np.random.default_rng(0))
+        math.sqrt(2.0) * radius, pose, rng=np.random.default_rng(0), scales=(leg, leg, 1.0))
     return CharacteristicLength(optimised.value, optimised.method, optimised.posture, optimised.kappa,
                                 optimised.reference + "; no isotropic posture exists (eqs. 9a-f): κ > 1")
 
@@ -317,7 +317,7 @@ def _maps(arguments, mechanism, point, entry, length):
         isotropic = [{"posture": posture.tolist(), "kappa_minus_one": margin, "signs": signs.astype(int).tolist()}
                      for posture, margin in isotropic_postures(
                          lambda posture: three_prr_kappa(found.value, posture, signs, "B-1A", radius, base, leg),
-                         starts)]
+                         starts, scales=(leg, leg, 1.0))]
         grid = {"x": list(axes["X"]), "y": list(axes["Y"]),
                 "phi": [float(orientations[0]), float(orientations[-1]), int(len(orientations))]}
     else:
@@ -457,10 +457,11 @@ def _cartesian_grid(texts, mechanism):
             tuple(np.linspace(*axes[name]) for name in order), tuple(axes[name] for name in order))
 
 
-_DERIVED_NORMALISATION = ("A-1B, B-1A: J̄ = H^½ Df T (E^½ Dπ T)⁻¹ (batched); lambda: Park & Kim's λ₁/λₙ "
-                          "(the batched classification); A, B (only with --matrix A|B): the derived relation, rows "
-                          "of [B A] orthonormal in coordinates of one unit, the length (angular actuated rates "
-                          "and output rotations multiplied by L)")
+_DERIVED_NORMALISATION = ("A-1B, B-1A: J̄ = H^½ Df T (Λ E^½ Dπ T)⁻¹ (batched; Λ = L on angular actuated rates, "
+                          "1 on prismatic ones); lambda: Park & Kim's λ₁/λₙ = κ(J̄)² on the same rates (undefined "
+                          "where the batched classification says so); A, B (only with --matrix A|B): the derived "
+                          "relation, rows of [B A] orthonormal in coordinates of one unit, the length (angular "
+                          "actuated rates and output rotations multiplied by L)")
 
 
 def _general_length(mechanism, point, length):
@@ -477,11 +478,14 @@ def _general_length(mechanism, point, length):
 
 
 def _has_orientation(mechanism):
+    """Whether L weighs some output (the end-effector metric changes with it), tried at the mechanism's own size
+    (any fixed length, e.g. 1, is refused by a mechanism far larger or smaller in its unit)."""
     import numpy as np
 
     from ..metrics import end_effector_metric
 
-    return bool(np.any(end_effector_metric(mechanism, 1.0) != end_effector_metric(mechanism, 2.0)))
+    size = float(mechanism.characteristic_length)
+    return bool(np.any(end_effector_metric(mechanism, size) != end_effector_metric(mechanism, 2.0 * size)))
 
 
 def _write(arguments, result, maps):
