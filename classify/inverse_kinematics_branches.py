@@ -259,8 +259,8 @@ def mechanism_working_modes(mechanism, point, rng=None, count=64, rounds=10):
     -------
     list of WorkingMode
         ``angles`` = the actuated coordinates (displacements from home), ``point`` the configuration,
-        ``margin`` = 1/κ of the actuator block E^½ Dπ T there (0: an actuator singularity); ``signs`` and
-        ``diagonal`` empty.
+        ``margin`` = 1/κ of the actuator block Λ E^½ Dπ T there (0: an actuator singularity;
+        :func:`classify.conditioning.mechanism_jacobians`); ``signs`` and ``diagonal`` empty.
     """
     from .conditioning import inverse_condition, mechanism_jacobians
 
