@@ -135,3 +135,94 @@ def test_converting_a_mechanism_file_keeps_its_configurations_and_refuses_to_ove
         status, _, err = run(["convert", str(source), "--write", str(tmp_path / written)], capsys)
         assert status == 2 and "is an input of this conversion" in err and len(err.strip().splitlines()) == 1
     assert source.read_text() == text
+
+
+WEIGHTED = """name: w
+space: planar
+description: a five-bar with weighted motors
+joints:
+- {name: A, type: R, links: [ground, p1], point: [0, 0], actuated: true, weight: 0.5}
+- {name: C, type: R, links: [p1, d1], point: [-1.8176167575446969, 7.790781047025561]}
+- {name: P, type: R, links: [d1, d2], point: [0.5, 12.0]}
+- {name: D, type: R, links: [d2, p2], point: [8.139990628996699, 7.708465483337544]}
+- {name: B, type: R, links: [ground, p2], point: [6, 0], actuated: true, weight: 4.0}
+end_effector: {link: d1, point: [0.5, 12.0]}
+configurations: {nudge: {A: 0.0}}
+"""
+
+
+@pytest.mark.parametrize("output", ["json", "text"])
+def test_urdf_export_says_what_the_pair_cannot_hold(tmp_path, capsys, output):
+    """The weights (the λ's change with them), the named configurations and the description were dropped with
+    exit 0 and "notes": []: each is now a note and a warning line on stderr, naming the joints and the
+    configurations."""
+    source = tmp_path / "w.yaml"
+    source.write_text(WEIGHTED)
+    status, out, err = run(["convert", str(source), "--write", str(tmp_path / "w_u.urdf"), "--format", output],
+                           capsys)
+    assert status == 0, err
+    warnings = [line for line in err.splitlines() if line.startswith("closedchain: warning: ")]
+    assert len(warnings) == 3 == len(err.splitlines())
+    assert "weights of A (0.5), B (4)" in warnings[0] and "proper values" in warnings[0]
+    assert "named configurations" in warnings[1] and "nudge" in warnings[1]
+    assert "description" in warnings[2]
+    notes = json.loads(out)["notes"] if output == "json" else \
+        [line[len("note: "):] for line in out.splitlines() if line.startswith("note: ")]
+    assert notes == [line[len("closedchain: warning: "):] for line in warnings]
+
+
+def test_urdf_export_of_a_file_without_weights_configurations_or_description_says_nothing(tmp_path, capsys):
+    source = tmp_path / "plain.yaml"
+    source.write_text("\n".join(line for line in WEIGHTED.splitlines()
+                                if not line.startswith(("description", "configurations"))).replace(", weight: 0.5", "")
+                      .replace(", weight: 4.0", "") + "\n")
+    status, out, err = run(["convert", str(source), "--write", str(tmp_path / "p.urdf"), "--format", "json"], capsys)
+    assert status == 0 and err == "" and json.loads(out)["notes"] == []
+
+
+@pytest.mark.parametrize("name, link, field", [("J\\x01", "a", "joint 'J\\x01': field 'name'"),
+                                               ("J1", "a\\x1b", "joint 'J1': field 'links': link 'a\\x1b'")])
+def test_a_name_xml_cannot_hold_is_refused_before_anything_is_written(tmp_path, capsys, name, link, field):
+    """The name was written raw: exit 0, and the URDF could not be read back (not well-formed XML)."""
+    source = tmp_path / "source.yaml"
+    source.write_text(f'name: ctl\nspace: planar\njoints:\n'
+                      f'- {{name: "{name}", type: R, links: [ground, "{link}"], point: [0, 0], actuated: true}}\n'
+                      f'- {{name: J2, type: R, links: ["{link}", b], point: [0, 1]}}\n'
+                      f'- {{name: J3, type: R, links: [b, c], point: [1, 1.5]}}\n'
+                      f'- {{name: J4, type: R, links: [c, ground], point: [2, 0]}}\n')
+    status, out, err = run(["convert", str(source), "--write", str(tmp_path / "ctl.urdf")], capsys)
+    assert status == 2 and out == ""
+    assert err.startswith(f"closedchain: error: --write: {field}: the character U+00") and "XML 1.0" in err
+    assert err.count("\n") == 1 and "Traceback" not in err
+    assert sorted(path.name for path in tmp_path.iterdir()) == ["source.yaml"]
+
+
+@pytest.mark.parametrize("options", [[], ["--configuration", "fig6a_distal_aligned"], ["--param", "distal=6"]])
+def test_convert_writes_a_catalogue_entry_with_the_description_catalog_gives_it(tmp_path, capsys, options):
+    """`convert NAME --write x.yaml` wrote no description; `catalog NAME --write` records the entry, its paper and
+    its parameters."""
+    from mechanisms.io import mechanism_to_dict, read
+
+    status, _, err = run(["convert", "five-bar", *options, "--write", str(tmp_path / "converted.yaml")], capsys)
+    assert status == 0, err
+    status, _, err = run(["catalog", "five-bar", *options, "--write", str(tmp_path / "catalog.yaml")], capsys)
+    assert status == 0, err
+    converted, catalogued = read(tmp_path / "converted.yaml"), read(tmp_path / "catalog.yaml")
+    assert converted.description == catalogued.description and "closedchain catalogue entry five-bar" in \
+        converted.description
+    assert mechanism_to_dict(converted.mechanism) == mechanism_to_dict(catalogued.mechanism)
+
+
+@pytest.mark.parametrize("suffix", [".YAML", ".Yml", ".JSON", ".URDF"])
+def test_an_upper_case_suffix_is_accepted(tmp_path, capsys, suffix):
+    """`--write X.YAML` was refused by a case-sensitive check, though mechanisms.io reads and writes it."""
+    target = tmp_path / f"x{suffix}"
+    status, out, err = run(["convert", "five-bar", "--write", str(target), "--format", "json"], capsys)
+    assert status == 0, err
+    assert target.exists() and json.loads(out)["written"][0] == str(target)
+    if suffix == ".URDF":
+        assert (tmp_path / "x.yaml").exists()
+    else:
+        from mechanisms.io import read
+
+        assert read(target).mechanism.name == "five-bar"
