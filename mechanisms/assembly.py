@@ -311,6 +311,7 @@ def _newton(fibre, starts, tolerance, max_iterations=60, max_step=0.5):
     active = np.isfinite(norms)
     if ambient.dim == 0:
         return points, norms
+    earlier = norms.copy()
     for iteration in range(max_iterations):
         if iteration % 20 == 0:  # drop the starts stuck far from a solution (a local minimum of ‖Φ‖)
             if iteration:
