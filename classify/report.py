@@ -332,7 +332,8 @@ class Report:
                 None if kept is None else f"smallest kept σ = {kept:.3g}",
                 None if dropped is None else f"largest dropped σ = {dropped:.3g}"]))
             state = "SINGULAR" if result.singular else "regular"
-            lines.append(f"  {label:<13} {state:<9} rank {result.rank} / expected {result.expected_rank}"
+            where = " on ker DΦ(p)" if result.extra.get("on_kernel_of_constraint") else ""
+            lines.append(f"  {label:<13} {state:<9} rank {result.rank}{where} / expected {result.expected_rank}"
                          f"{extra}  [{margin}; cut {result.decision.tolerance:.1e}]")
             if result.singular:
                 for column in result.kernel.T:
