@@ -55,7 +55,7 @@ from manifold import DEFAULT_ATOL, DEFAULT_RTOL, check_rtol, implicit, tangent_e
 from mechanisms import CLOSURE_TOLERANCE, ConfigurationError, Mechanism, closure_and_jacobian
 from mechanisms.mechanism import dense_memory_estimate
 
-from .classification import classify
+from .classification import CLOSURE_BAND, classify, closure_of
 from .metrics import JACOBI_ROWS, JACOBI_STACK, metric_root, moving_directions, proper_values, singular_values
 from .model import model_of
 from .progress import progress_bar
@@ -94,7 +94,8 @@ class Classifications:
     tolerances : dict of str to ndarray, shape=[n]
         Per kind, the cut of the rank decision.
     eigenvalues : ndarray, shape=[n, min(dim N, k)]
-        Manipulability proper values λ₁ ≥ … ≥ λ_min(dim N, m), then NaN (all NaN
+        Manipulability proper values λ₁ ≥ … ≥ λ_r, r the end-effector's expected rank (as many as J has rank
+        on M, at most min(dim N, m)), then NaN (all NaN
         where G is not definite on T_pM, at C-space singularities and without
         end-effector).
     condition_number : ndarray, shape=[n]
@@ -337,13 +338,16 @@ def _closure_and_jacobian(model, points, offset):
     if model.mechanism is not None:
         rows, turns, jacobian = closure_and_jacobian(model.mechanism, points)
         residuals = np.linalg.norm(rows, axis=-1)
-        bad = np.flatnonzero(~(residuals <= CLOSURE_TOLERANCE) | ~turns)
     else:
         residuals = np.linalg.norm(manifold.constraint(points), axis=-1)
-        bad = np.flatnonzero(~(residuals <= CLOSURE_TOLERANCE))
-        if not len(bad) and manifold.is_solution is not None and not manifold.is_solution(points):
-            bad = [index for index, point in enumerate(points) if not manifold.is_solution(point)]
+        turns = np.ones(len(points), dtype=bool)
+        if manifold.is_solution is not None and not manifold.is_solution(points):
+            turns = np.array([bool(manifold.is_solution(point)) for point in points])
         jacobian = manifold.constraint_jacobian(points)
+    # at the tolerance, the stack's rounding must not decide: classify's own arithmetic, one at a time
+    for index in np.flatnonzero(np.abs(residuals - CLOSURE_TOLERANCE) <= CLOSURE_BAND * CLOSURE_TOLERANCE):
+        residuals[index], turns[index] = closure_of(model, points[index])
+    bad = np.flatnonzero(~(residuals <= CLOSURE_TOLERANCE) | ~turns)
     if len(bad):
         index = int(bad[0])
         raise ConfigurationError(f"configuration {offset + index}: not on the C-space "

@@ -34,7 +34,7 @@ import numpy as np
 from manifold import (
     DEFAULT_RTOL, EXTENT_CUT, check_rtol, local_rank, numerical_rank, scaled_jacobian, tangent_basis, tangent_extent,
 )
-from mechanisms import CLOSURE_TOLERANCE, ConfigurationError, Mechanism
+from mechanisms import CLOSURE_TOLERANCE, ConfigurationError, Mechanism, closure_and_jacobian
 
 from .metrics import manipulability, moving_directions
 from .model import model_of
@@ -92,8 +92,8 @@ def classify(mechanism, point, survey=None, rng=None, rtol=DEFAULT_RTOL, length_
     point = np.asarray(point, dtype=float)
     manifold = model.manifold
     loop_rows = manifold.constraint(point)
-    residual = float(np.linalg.norm(np.atleast_2d(loop_rows), axis=-1)[0])  # rounded as the batch's, row by row
-    if residual > CLOSURE_TOLERANCE or (manifold.is_solution is not None and not manifold.is_solution(point)):
+    residual, closes = closure_of(model, point)
+    if not (residual <= CLOSURE_TOLERANCE and closes):
         raise ConfigurationError(f"the configuration is not on the C-space (|Φ| = {residual:.3g}); project it first")
     names = model.coordinate_names
     k = manifold.ambient.dim
@@ -157,6 +157,8 @@ def classify(mechanism, point, survey=None, rng=None, rtol=DEFAULT_RTOL, length_
     if not cspace_singular:  # at a C-space singularity ker DΦ(p) is larger than the tangent spaces of M
         survey = _including_point(survey, constraint_decision.rank, actuator_decision, end_effector_decision,
                                   lambda: numerical_rank(stacked(*blocks), rtol=rtol, scale=1.0))
+    else:  # DΦ's rank still proves what M reaches (a flex where the survey missed a larger rank)
+        survey = survey.including(constraint_decision.rank)
     idle = survey.idle_freedoms(dof)
     expected_actuator = dof - idle
     actuator_singular = actuator_decision.rank < expected_actuator
@@ -253,9 +255,43 @@ class _Neighbourhood:
         return local_rank(manifold, point, rng, rtol=rtol)
 
 
+#: relative band about the closure tolerance in which a stack's ‖Φ‖ is computed again one configuration at a
+#: time (:func:`closure_of`): Φ's rows come from sums of terms of order 1, so at ‖Φ‖ = 1e-9 their rounding,
+#: which depends on the stack's shape (a Gough-Stewart configuration's ‖Φ‖ was 1e-9 alone, 1.00000002e-9 in a
+#: stack of two), is about 1e-8 of it
+CLOSURE_BAND = 1e-5
+
+
+def closure_of(model, point):
+    """‖Φ(p)‖ and whether p is a point of M rather than a spurious zero of Φ (a loop at a half-turn): the
+    closure decision of :func:`classify`, which :func:`classify.batch.classify_many` takes again for a
+    configuration within :data:`CLOSURE_BAND` of the tolerance (a point there must not be accepted alone and
+    refused in a stack). For a joint graph from :func:`mechanisms.closure_and_jacobian`'s rows.
+
+    Parameters
+    ----------
+    model : Model
+    point : ndarray, shape=[point_size]
+
+    Returns
+    -------
+    residual : float
+    closes : bool
+    """
+    point = np.asarray(point, dtype=float)
+    if model.mechanism is not None:
+        rows, turns, _ = closure_and_jacobian(model.mechanism, point[None])
+        return float(np.linalg.norm(rows, axis=-1)[0]), bool(turns[0])
+    manifold = model.manifold
+    residual = float(np.linalg.norm(np.atleast_2d(manifold.constraint(point)), axis=-1)[0])
+    return residual, manifold.is_solution is None or bool(manifold.is_solution(point))
+
+
 def _distance_bound(residual, decision):
     """An upper bound of the dimensionless distance from p to M to first order: the Gauss-Newton step
-    ‖(DΦ·s)⁺ Φ‖ ≤ ‖Φ‖ / σ_r, σ_r the smallest kept singular value of DΦ·diag(s) (0 without rows or rank)."""
+    ‖(DΦ·s)⁺ Φ‖ ≤ ‖Φ‖ / σ_r, σ_r the smallest kept singular value of DΦ·diag(s) (0 without rows or rank).
+    :func:`classify` notes it where it exceeds rtol, the relative size of its rank cuts: a heuristic (the
+    singular values move by about the distance times the curvature of Φ, taken as of order 1)."""
     kept = decision.margin[0]
     return 0.0 if kept is None or not residual else residual / kept
 

@@ -348,7 +348,8 @@ def manipulability(actuator_block, end_effector_block, metric, count, rank=None,
     metric : ndarray, shape=[n, n]
         H.
     count : int
-        How many proper values to keep (min(n, m)).
+        How many proper values to keep: :func:`classify.classify` keeps as many as J has rank on M (the
+        end-effector's expected rank, at most min(n, m)).
     rank : int, optional
         The numerical rank of J (from the end-effector rank decision); when
         below `count`, λₙ is zero and the condition number is None.

@@ -53,6 +53,8 @@ class Survey:
         ``"end_effector"``, ``"joint"``): ``{"kept": largest σ_r / cut, "dropped": largest σ_{r+1} / cut}``
         with r the kind's rank, each singular value over the cut at its own sample (None where there is no
         such value): how clearly the rank was reached somewhere, and how near a sample came to a larger one.
+        DΦ's are over every sample; the others over the samples visited until every rank reached its upper
+        bound (the survey stops there: no sample can then raise a rank, and ``dropped`` is None).
         A design whose ``moving_idle_freedoms`` (an architecture singularity) rest on an actuator ``dropped``
         near 1 is near the cut. None for a survey raised by a configuration (:meth:`including`) or read
         without them.
@@ -327,14 +329,19 @@ def survey(model, rng, starts=None, random_count=24, walk_count=24, rtol=DEFAULT
     # upper bounds of each rank on M: once every one is reached, no further sample can raise them
     bounds = (min(len(model.actuators), dof), min(model.end_effector_dimension, dof),
               min(len(model.actuators) + model.end_effector_dimension, dof))
+    flexes = None  # whether M extends along fewer directions than ker DΦ, decided at the first sample visited
     for point, rank in zip(points, ranks):
         if rank < constraint_rank:
             continue  # a C-space singularity: ker DΦ is larger than the tangent spaces of M
         basis = tangent_basis(manifold, point, rtol=rtol)[0]
-        if rank < np.size(manifold.constraint(point)) and basis.shape[1]:
+        if flexes is not False and rank < np.size(manifold.constraint(point)) and basis.shape[1]:
             # DΦ short of its rows: M may extend along fewer directions than ker DΦ (a part of the mechanism
-            # that only flexes, everywhere on M); the ranks are those on the directions M extends along
-            basis = tangent_extent(manifold, point, basis).moving
+            # that only flexes, at every point of M); the ranks are those on the directions M extends along.
+            # Such a part flexes at every sample or at none but the special ones, so a first sample without
+            # flexes spares the others the test (an overconstrained mechanism that moves, as Bennett's)
+            extent = tangent_extent(manifold, point, basis)
+            flexes = bool(flexes) or extent.extent < basis.shape[1]
+            basis = extent.moving
         blocks = decision_blocks(model, point, basis)
         actuator, actuator_scale, end_effector, end_effector_scale = blocks
         decisions = {"actuator": numerical_rank(actuator, rtol=rtol, scale=actuator_scale)}

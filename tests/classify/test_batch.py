@@ -335,3 +335,36 @@ def test_a_rigid_structure_has_the_same_cuts_in_a_stack():
     assert single.dof == batch.dof[0] == 0
     for kind in ("actuator", "end_effector"):
         assert batch.tolerances[kind][0] == getattr(single, kind).decision.tolerance > 1e-9
+
+
+def test_a_gough_stewart_configuration_at_the_closure_tolerance_is_decided_alike_alone_and_in_a_stack():
+    """Φ's rows of a Gough–Stewart configuration round differently alone and in a stack (‖Φ‖ = 1e-9 alone,
+    1.00000002e-9 beside the home): at the tolerance one call accepted what the other refused, and a refusal
+    takes the whole stack (found by a review). The stack now decides such configurations one at a time."""
+    mechanism = catalogue.entry("gough-stewart").mechanism()
+    model, start = model_of(mechanism), home(mechanism)
+    direction = np.random.default_rng(3).standard_normal(start.shape) * 1e-4
+
+    def residual(step):
+        return np.linalg.norm(model.manifold.constraint(start + step * direction))
+
+    low, high = 0.0, 1.0
+    while residual(high) < 1e-9:
+        high *= 2.0
+    for _ in range(200):
+        middle = 0.5 * (low + high)
+        low, high = (middle, high) if residual(middle) <= 1e-9 else (low, middle)
+    steps = [low]
+    for _ in range(8):
+        steps = [np.nextafter(steps[0], 0.0), *steps, np.nextafter(steps[-1], np.inf)]
+    for step in steps:
+        point = start + step * direction
+        try:
+            alone = classify(model, point).kinds
+        except ConfigurationError:
+            alone = "refused"
+        try:
+            stacked = classify_many(model, np.stack([start, point])).kinds(1)
+        except ConfigurationError:
+            stacked = "refused"
+        assert alone == stacked, step
