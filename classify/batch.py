@@ -95,7 +95,7 @@ class Classifications:
         Per kind, the cut of the rank decision.
     eigenvalues : ndarray, shape=[n, min(dim N, k)]
         Manipulability proper values λ₁ ≥ … ≥ λ_r, r the end-effector's expected rank (as many as J has rank
-        on M, at most min(dim N, m)), then NaN (all NaN
+        on M, at most min(dim N, m); at least one, 0 for an end-effector that never moves), then NaN (all NaN
         where G is not definite on T_pM, at C-space singularities and without
         end-effector).
     condition_number : ndarray, shape=[n]

@@ -183,8 +183,8 @@ def classify(mechanism, point, survey=None, rng=None, rtol=DEFAULT_RTOL, length_
     moves = basis.shape[1] - idle
     if n and not cspace_singular and moves > 0 and actuator_decision.rank == moves:
         motions = basis if not idle else basis @ moving_directions(stacked(*blocks), moves)
-        # as many λ's as J has rank on M: a direction the end-effector never moves (a planar mechanism written
-        # in space: z) would add a λ = 0 at every configuration
+        # as many λ's as J has rank on M (at least one: 0 for an end-effector that never moves): a direction the
+        # end-effector never moves (a planar mechanism written in space: z) would add a λ = 0 everywhere
         proper = manipulability(model.actuators @ motions, model.end_effector_jacobian(point) @ motions,
                                 model.end_effector_metric, max(1, min(end_effector.expected_rank, moves)),
                                 rank=end_effector.rank)

@@ -349,7 +349,7 @@ def manipulability(actuator_block, end_effector_block, metric, count, rank=None,
         H.
     count : int
         How many proper values to keep: :func:`classify.classify` keeps as many as J has rank on M (the
-        end-effector's expected rank, at most min(n, m)).
+        end-effector's expected rank, at most min(n, m); at least one).
     rank : int, optional
         The numerical rank of J (from the end-effector rank decision); when
         below `count`, λₙ is zero and the condition number is None.
