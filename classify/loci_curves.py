@@ -142,14 +142,31 @@ def _distances(ambient, points, others):
     return np.linalg.norm(differences, axis=-1).min(axis=1)
 
 
+#: a curve point where σ_min of its scaled Jacobian (one row short of square) is at most this relative to σ₁ is
+#: where branches cross (the rank cut of :data:`manifold.DEFAULT_RTOL`)
+CROSSING_RTOL = 1e-6
+
+
+def _is_crossing(curve, point):
+    """Whether the curve's Jacobian has a null space of more than one line at `point` (two branches cross):
+    the direction a trace would leave it along is then arbitrary (it changed with the base frame)."""
+    jacobian = np.asarray(curve.constraint_jacobian(point), dtype=float) * curve.ambient.tangent_scales
+    if not 0 < jacobian.shape[0] < jacobian.shape[1]:
+        return False
+    values = np.linalg.svd(jacobian, compute_uv=False)
+    return bool(values[-1] <= CROSSING_RTOL * values[0])
+
+
 def _trace_from_seeds(curve, seeds, step):
-    """The curves through the seeds (each seed corrected onto the curve first; seeds on a traced curve skipped)."""
+    """The curves through the seeds (each seed corrected onto the curve first; seeds on a traced curve skipped).
+
+    Seeds where two branches of the curve cross are taken last: a trace from one leaves along an arbitrary
+    branch, so the pieces would depend on the frame where another seed traces the same curves."""
     ambient = curve.ambient
+    corrected = [on for on in (_correct(curve, seed, max_step=4 * step) for seed in seeds) if on is not None]
+    crossing = [_is_crossing(curve, on) for on in corrected]
     traced = []
-    for seed in seeds:
-        on = _correct(curve, seed, max_step=4 * step)
-        if on is None:
-            continue
+    for on in [on for on, at in zip(corrected, crossing) if not at] + [on for on, at in zip(corrected, crossing) if at]:
         if any(_distances(ambient, on[None], points)[0] < 2 * step for points, _ in traced):
             continue
         traced.append(_trace(curve, on, step))
