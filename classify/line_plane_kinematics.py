@@ -75,9 +75,13 @@ __all__ = [
     "quadratic_quantities", "quadratic_assembly_modes", "same_modes",
 ]
 
-#: a mode is real when the imaginary parts of p/L and i are at most this (roots near a double root, i.e. near a
-#: singularity, split by about the square root of the rounding, 1e-8)
-REAL_TOLERANCE = 1e-6
+#: a mode is real when the imaginary parts of p/L and i are at most this, and real modes closer than this are one
+#: (:func:`_merge_coincident`). At a singularity g has a double root, which leg lengths off by δ (relative) split
+#: by about c √δ: c ≈ 16 at the catalogue 5-SPU's eq. 33 (1.6e-5 at δ = 1e-12). With 1e-6 a rounding of 1e-14
+#: (a design read 150 lengths from the origin) or lengths off by 1e-12 turned its two double modes into four
+#: real or four complex ones; 1e-4 merges them for δ up to ~4e-11, and merges distinct modes only that close to
+#: a singularity (where their count changes: legs farther off have their own four modes, as they should)
+REAL_TOLERANCE = 1e-4
 
 
 @dataclass(frozen=True, eq=False)

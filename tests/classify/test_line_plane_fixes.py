@@ -86,6 +86,15 @@ def test_a_double_root_at_singular_leg_lengths_is_one_mode_of_multiplicity_two()
     assert min(np.linalg.norm(mode.position - position) for mode in real) < 1e-6
 
 
+@pytest.mark.parametrize("relative", [1e-14, -1e-13, 1e-12, -1e-12])
+def test_singular_leg_lengths_off_by_rounding_still_give_the_double_modes(relative):
+    """A double root is split by about c√δ by lengths off by δ: with a merge at 1e-6, δ = 1e-12 (or the rounding
+    of a design read 150 lengths from the origin) gave four real or four complex modes (found by an audit)."""
+    design, _, _, lengths = singular_lengths()
+    modes = assembly_modes(design, lengths * (1.0 + relative * np.array([1.0, -1.0, 1.0, -1.0, 1.0])))
+    assert [mode.multiplicity for mode in modes if mode.real] == [2, 2]
+
+
 def test_the_cli_counts_distinct_real_modes_at_singular_leg_lengths(capsys):
     _, _, _, lengths = singular_lengths()
     base = " ".join(f"{x},{y}" for x, y in QUARTIC_BASE)
