@@ -29,7 +29,9 @@ all is started like the first point: from the starting configuration,
 nearest point first. The held values of a reached point are the grid values
 bit for bit. All the grid points of one continuation front are computed at
 once (array work): a grid of n₁ × … × n_d points takes about n₁ + … + n_d
-fronts.
+fronts. An axis whose two ends are the same configurations (a held angle
+over a whole turn, both ends given) is closed on itself: its ends are
+neighbours of the points next to the other end.
 
 **A singular start.** Where the starting configuration is singular for the
 held coordinates — DΦ restricted to the free ones, ``DΦ_free·s``, has a
@@ -455,6 +457,41 @@ def grid_neighbours(shape):
     return result
 
 
+def _periodic_axes(ambient, targets, shape, held):
+    """The grid axes whose two ends are the same configurations (a held angle over a whole turn, both ends
+    given): their ends are one point of M twice, not the two edges of the grid."""
+    grid = targets.reshape(tuple(shape) + targets.shape[-1:])
+    scales = ambient.tangent_scales[held]
+    axes = []
+    for axis, size in enumerate(shape):
+        if size < 3:
+            continue
+        first, last, second = (np.take(grid, index, axis=axis) for index in (0, size - 1, 1))
+        apart = ambient.inverse_retract(first, last)[..., held] / scales
+        step = ambient.inverse_retract(first, second)[..., held] / scales
+        if np.max(np.abs(apart)) <= 1e-9 < np.max(np.abs(step)):
+            axes.append(axis)
+    return axes
+
+
+def _wrapped(neighbours, axes, shape):
+    """`neighbours` (:func:`grid_neighbours`) with each periodic axis closed on itself: one step back from its
+    first point is the point before its last, and one step on from its last is the point after its first. The
+    two ends being the same configurations, the grid's result then does not depend on which end a user called
+    which (the hybrid's 3-D grid over a whole turn of A reached 844 or 980 points by the sign of A's axis)."""
+    if not axes:
+        return neighbours
+    flat = np.arange(len(neighbours)).reshape(shape)
+    neighbours = neighbours.copy()
+    for axis in axes:
+        size = shape[axis]
+        first, last = np.take(flat, 0, axis=axis).ravel(), np.take(flat, size - 1, axis=axis).ravel()
+        after_first, before_last = np.take(flat, 1, axis=axis).ravel(), np.take(flat, size - 2, axis=axis).ravel()
+        neighbours[first, 2 * axis] = before_last
+        neighbours[last, 2 * axis + 1] = after_first
+    return neighbours
+
+
 def assemble_grid(mechanism, start, targets, shape, held, bar=None, with_start=False):
     """Every grid point assembled by continuation over the grid from a configuration (see the module notes).
 
@@ -492,7 +529,7 @@ def assemble_grid(mechanism, start, targets, shape, held, bar=None, with_start=F
     given = np.asarray(start, dtype=float)
     starting = None  # the regular neighbour of a singular start, once needed
     count = len(targets)
-    neighbours = grid_neighbours(shape)
+    neighbours = _wrapped(grid_neighbours(shape), _periodic_axes(ambient, targets, shape, held), shape)
     points = np.full(targets.shape, np.nan)
     reached = np.zeros(count, dtype=bool)
     tried = np.zeros(neighbours.shape, dtype=bool)

@@ -427,3 +427,23 @@ def test_a_hand_built_grid_is_checked(fields, fragment):
 
     with pytest.raises(ValueError, match=re.escape(fragment)):
         Grid(*fields)
+
+
+def test_a_grid_over_a_whole_turn_does_not_depend_on_the_sign_of_the_joint_axis(tmp_path):
+    """The hybrid (Chablat, Wenger & Angeles 1998 Fig. 6) over a whole turn of A, both ends given: the ends are
+    one configuration twice. The grid's edge there cut a region off, reached or not by which end the seeds met
+    first, so flipping A's axis (and the grid with it) changed the map (92 or 108 of 256 points, found by an
+    audit). The axis is now closed on itself."""
+    from mechanisms import catalogue, flip_axis, save
+
+    mechanism = catalogue.entry("hybrid").mechanism()
+    save(mechanism, tmp_path / "hybrid.yaml")
+    save(flip_axis(mechanism, "A"), tmp_path / "flipped.yaml")
+    turn = "3.141592653589793"
+    reached = []
+    for name, grid in (("hybrid", f"A=-{turn}:{turn}:8"), ("flipped", f"A={turn}:-{turn}:8")):
+        status, out, err = run(["map", str(tmp_path / f"{name}.yaml"), "--grid", f"base=-{turn}:1.5707963267948966:4",
+                                grid, f"B=-{turn}:{turn}:8", "--format", "json"])
+        assert status == 0, err
+        reached.append([point["reachable"] for point in json.loads(out)["points"]])
+    assert reached[0] == reached[1] and sum(reached[0]) > 92
