@@ -57,6 +57,7 @@ from __future__ import annotations
 
 from collections import deque
 from dataclasses import dataclass
+from pathlib import Path
 from xml.etree import ElementTree
 
 import numpy as np
@@ -330,7 +331,21 @@ def write_urdf(mechanism, path, closures_path, configurations=None, description=
     from ._text import write_text_file
 
     exported = export_urdf(mechanism, configurations, description)
+    closures = yaml.safe_dump(closures_to_dict(exported.closures), sort_keys=False, default_flow_style=None)
+    try:
+        before = Path(path).read_bytes() if Path(path).is_file() else None
+    except OSError:
+        before = None
     write_text_file(path, exported.urdf)
-    write_text_file(closures_path, yaml.safe_dump(closures_to_dict(exported.closures), sort_keys=False,
-                                                  default_flow_style=None))
+    try:
+        write_text_file(closures_path, closures)
+    except MechanismError:  # no URDF without its closures: the file is put back as it was
+        try:
+            if before is None:
+                Path(path).unlink()
+            else:
+                Path(path).write_bytes(before)
+        except OSError:
+            pass
+        raise
     return exported

@@ -76,7 +76,7 @@ def import_file(path, closures=None):
     """
     from mechanisms.urdf import looks_like_urdf, read_urdf
 
-    if Path(path).suffix == ".urdf" or looks_like_urdf(path):
+    if Path(path).suffix.lower() == ".urdf" or looks_like_urdf(path):
         return read_urdf(path, closures)
     if closures is not None:
         raise InputError(f"--closures: applies to a URDF input, not to {path} (an MJCF file has its loops as "
@@ -313,7 +313,7 @@ def _source(arguments):
         item = catalogue.entry(arguments.file)
         return item.assemble(entry_values(item, arguments)), {}
     path = Path(arguments.file)
-    if path.suffix in IMPORT_SUFFIXES and path_exists(arguments.file):
+    if path.suffix.lower() in IMPORT_SUFFIXES and path_exists(arguments.file):
         for option, given in (("--param", arguments.param), ("--configuration", arguments.configuration)):
             if given:
                 raise InputError(f"{option}: does not apply to the imported file {arguments.file}")
@@ -324,7 +324,7 @@ def _source(arguments):
         if not path_exists(arguments.file):
             raise InputError(f"{printable(arguments.file)}: no such file")
         raise InputError(f"--closures: applies to a URDF input (.urdf), not to {printable(arguments.file)}")
-    if not path_exists(arguments.file) and path.suffix not in MECHANISM_SUFFIXES:
+    if not path_exists(arguments.file) and path.suffix.lower() not in MECHANISM_SUFFIXES:
         raise InputError(f"{arguments.file}: no such file or catalogue entry (see `closedchain catalog`)")
     if arguments.param:
         raise InputError(f"--param: applies to catalogue entries, not to the file {arguments.file}")

@@ -74,7 +74,7 @@ def run(arguments, out):
     source_files = [Path(arguments.file)] + ([Path(arguments.closures)] if getattr(arguments, "closures", None) else [])
     written = [target] + ([target.with_suffix(".yaml")] if suffix == ".urdf" else [])
     for path in written:
-        if any(path.exists() and other.exists() and path.resolve() == other.resolve() for other in source_files):
+        if any(_same_file(path, other) for other in source_files):
             raise InputError(f"--write: {printable(str(path))} is an input of this conversion: it would be "
                              f"overwritten (write elsewhere)")
     if suffix == ".urdf":
@@ -121,3 +121,14 @@ def run(arguments, out):
         out.write(f"imported: {printable(note)}\n")
     out.write(f"wrote {printable(str(target))}: {printable(mechanism.name)}, {len(mechanism.joints)} joints, "
               f"{mechanism.loop_count} loop(s)\n")
+
+
+def _same_file(path, other):
+    """Whether two paths name one existing file (through a symbolic or a hard link too); False for a name no
+    file can have (too long, a NUL byte)."""
+    import os
+
+    try:
+        return os.path.samefile(path, other)
+    except (OSError, ValueError):
+        return False

@@ -418,7 +418,7 @@ def _configurations(task):
                                           "configuration": chosen}))
         return result
     path = Path(task.source)
-    if path.suffix in IMPORT_SUFFIXES:
+    if path.suffix.lower() in IMPORT_SUFFIXES:
         imported = import_file(path, task.closures)
         origin = {"file": task.source, "configuration": None,
                   **({"closures": task.closures} if task.closures is not None else {}), "import": imported.to_dict()}
@@ -578,7 +578,7 @@ def _tasks(arguments):
     if paths:
         for path, closures in dict.fromkeys((str(path), closures) for path, closures in
                                             _mechanism_files(paths, arguments.closures)):
-            if Path(path).suffix in IMPORT_SUFFIXES:
+            if Path(path).suffix.lower() in IMPORT_SUFFIXES:
                 import_file(path, closures)  # a robot that cannot be imported stops the report before the work
                 tasks.append(_Task(path, ("home",), is_file=True, closures=closures))
             else:

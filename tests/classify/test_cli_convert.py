@@ -226,3 +226,42 @@ def test_an_upper_case_suffix_is_accepted(tmp_path, capsys, suffix):
         from mechanisms.io import read
 
         assert read(target).mechanism.name == "five-bar"
+
+
+def test_an_input_reached_through_a_hard_link_is_not_overwritten(tmp_path, capsys):
+    """`convert in.yaml --write hard.urdf`, hard.yaml a hard link to in.yaml: the closures file was written over
+    the input (resolved paths differ for hard links; found by an audit)."""
+    import os
+
+    source = tmp_path / "in.yaml"
+    assert run(["convert", "five-bar", "--write", str(source)], capsys)[0] == 0
+    text = source.read_text()
+    os.link(source, tmp_path / "hard.yaml")
+    status, _, err = run(["convert", str(source), "--write", str(tmp_path / "hard.urdf")], capsys)
+    assert status == 2 and "is an input of this conversion" in err and err.count("\n") == 1
+    assert source.read_text() == text
+
+
+def test_a_name_too_long_for_a_file_exits_2(tmp_path, capsys):
+    status, _, err = run(["convert", "five-bar", "--write", str(tmp_path / ("x" * 300 + ".yaml"))], capsys)
+    assert status == 2 and err.count("\n") == 1 and "internal error" not in err
+
+
+def test_a_urdf_is_not_left_without_its_closures(tmp_path, capsys):
+    """The closures file could not be written (a folder there), exit 2, and the .urdf was written all the same,
+    or an existing one replaced and paired with stale closures (found by an audit)."""
+    (tmp_path / "out.yaml").mkdir()
+    status, _, err = run(["convert", "five-bar", "--write", str(tmp_path / "out.urdf")], capsys)
+    assert status == 2 and not (tmp_path / "out.urdf").exists()
+    (tmp_path / "old.urdf").write_text("<robot name='old'/>\n")
+    (tmp_path / "old.yaml").mkdir()
+    status, _, err = run(["convert", "five-bar", "--write", str(tmp_path / "old.urdf")], capsys)
+    assert status == 2 and (tmp_path / "old.urdf").read_text() == "<robot name='old'/>\n"
+
+
+def test_an_upper_case_urdf_written_reads_back(tmp_path, capsys):
+    target = tmp_path / "X.URDF"
+    assert run(["convert", "five-bar", "--write", str(target)], capsys)[0] == 0
+    status, out, err = run(["convert", str(target), "--closures", str(tmp_path / "X.yaml"), "--write",
+                            str(tmp_path / "back.yaml")], capsys)
+    assert status == 0, err
