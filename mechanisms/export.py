@@ -30,7 +30,10 @@ second axis first, and its two URDF joints are named so that ``<joint>_1``
 still carries the angle about the first axis and ``<joint>_2`` the other.
 Only an ``S`` so reached cannot keep them (a ball joint has no axis to
 reverse): it comes back with its links listed the other way, as every joint
-so reached does, and its rotation vector negated.
+so reached does, and its rotation vector negated. The tree is therefore
+grown through the other joints first, so that the ball joints close the
+loops wherever they can (written as ``3d`` closures, as they are): then a
+second round trip keeps every joint as the first gave it.
 
 URDF link and joint names are the mechanism's, and every name must be text
 XML 1.0 can hold (no control character but tab, newline and carriage return):
@@ -259,21 +262,32 @@ def export_urdf(mechanism, configurations=None, description=None):
 
     add_link(mechanism.ground)
     placed, used = {mechanism.ground}, set()
+    def place(joint, link, other):
+        used.add(joint.name)
+        placed.add(other)
+        add_link(other)
+        # traversed backwards: the same joint from its second link, axes reversed (its values kept)
+        write_joint(joint, link, other, reverse=joint.links[0] != link)
+        queue.append(other)
+
+    # the tree: breadth first through every joint but the S joints, which close the loops where they can (a ball
+    # joint in the tree reached from its second link cannot keep its values; as a closure it is written as is)
     queue = deque([mechanism.ground])
-    while queue:
-        link = queue.popleft()
-        for joint in mechanism.joints:
-            if joint.name in used or link not in joint.links:
-                continue
-            other = joint.links[1] if joint.links[0] == link else joint.links[0]
-            if other in placed:
-                continue
-            used.add(joint.name)
-            placed.add(other)
-            add_link(other)
-            # traversed backwards: the same joint from its second link, axes reversed (its values kept)
-            write_joint(joint, link, other, reverse=joint.links[0] != link)
-            queue.append(other)
+    while True:
+        while queue:
+            link = queue.popleft()
+            for joint in mechanism.joints:
+                if joint.type == "S" or joint.name in used or link not in joint.links:
+                    continue
+                other = joint.links[1] if joint.links[0] == link else joint.links[0]
+                if other not in placed:
+                    place(joint, link, other)
+        ball = next((joint for joint in mechanism.joints if joint.type == "S" and joint.name not in used
+                     and (joint.links[0] in placed) != (joint.links[1] in placed)), None)
+        if ball is None:
+            break
+        link = ball.links[0] if ball.links[0] in placed else ball.links[1]
+        place(ball, link, ball.links[1] if link == ball.links[0] else ball.links[0])
     for joint in mechanism.joints:
         if joint.name in used:
             continue
