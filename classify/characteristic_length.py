@@ -621,14 +621,18 @@ def mechanism_optimal_length(mechanism, point, rng=None, restarts=3, spread=0.5,
             _, trial_jacobian = evaluate(trial_posture)
             return best_length(trial_jacobian, refine=True)
 
-        length, posture, kappa = largest_isotropic_length(kappa_at, length, posture, high, tolerance,
-                                                          max_evaluations=max(max_evaluations, 600),
-                                                          length_at=length_at, exponent=exponent)
+        largest, top, top_kappa = largest_isotropic_length(kappa_at, length, posture, high, tolerance,
+                                                           max_evaluations=max(max_evaluations, 600),
+                                                           length_at=length_at, exponent=exponent)
+        if top_kappa - 1.0 <= max(FAMILY_FACTOR * (kappa - 1.0), FAMILY_FLOOR):
+            length, posture, kappa = largest, top, top_kappa
+            minima.insert(0, (kappa, posture))
+            reference += ("; κ = 1 on a family of (L, posture): the largest L with an isotropic posture (2002 "
+                          "§3.4: L = √2 r sin γ is largest at γ = π/2, the isotropic posture furthest from "
+                          "parallel singularities)")
+        else:   # the search climbed the band κ ≤ 1 + tolerance about an isolated isotropic posture: no family
+            reference += "; κ = 1 at an isolated posture (no family of isotropic postures through it)"
         configuration, jacobian = evaluate(posture)
-        minima.insert(0, (kappa, posture))
-        reference += ("; κ = 1 on a family of (L, posture): the largest L with an isotropic posture (2002 §3.4: "
-                      "L = √2 r sin γ is largest at γ = π/2, the isotropic posture furthest from parallel "
-                      "singularities)")
     else:
         reference += "; no isotropic posture found (κ > 1 at the minimum)"
 
@@ -656,6 +660,13 @@ def mechanism_optimal_length(mechanism, point, rng=None, restarts=3, spread=0.5,
     return found, isotropic
 
 
+#: the largest isotropic L of :func:`mechanism_optimal_length` stands where its posture is isotropic to within
+#: FAMILY_FACTOR times the optimiser's own κ − 1 (or FAMILY_FLOOR): on a family the posture of the largest L is
+#: isotropic to rounding (κ − 1 ≈ 1e-15 on the 3-PRR and the planar 3-RRR); about an isolated isotropic posture
+#: (a 3-PRR with a rail turned 25°) the search only climbs the band κ ≤ 1 + tolerance, to κ − 1 ≈ 1e-6 and an L
+#: 1.6e-5 above the isotropic one, and the optimiser's posture and L (κ − 1 ≈ 2e-10) stand
+FAMILY_FACTOR = 10.0
+FAMILY_FLOOR = 1e-9
 #: half-width (in log ρ) of :func:`mechanism_optimal_length`'s second search for the best L at a posture, about
 #: the first one's minimiser (which is within √ε ‖log ρ‖ ≤ 1e-7 of it, ρ ≤ 1e3)
 REFINE_WIDTH = 1e-6

@@ -131,3 +131,25 @@ def test_length_auto_of_a_three_prr_file_takes_few_postures(monkeypatch):
     assert found.value == pytest.approx(ROOT_TWO_R, rel=1e-7)
     assert isotropic and isotropic[0][1] <= ISOTROPY_TOLERANCE
     assert len(calls) < 3000
+
+
+def test_an_isolated_isotropic_posture_keeps_its_own_length():
+    """A 3-PRR with rail 3 turned 25° has one isotropic posture, at L = 70.5305, and no family through it: κ's
+    minimum over the postures grows like 0.06·δL/L about it. The search for the largest isotropic L then only
+    climbed the band κ ≤ 1 + 1e-6, to L = 70.5316 (1.6e-5 above) at a posture with κ − 1 = 9.99e-7 (found by an
+    audit); the optimiser's own L and posture (κ − 1 ≈ 2e-10) now stand."""
+    import dataclasses
+
+    from classify.characteristic_length import mechanism_optimal_length
+    from mechanisms import Mechanism, catalogue, home
+
+    mechanism = catalogue.entry("3-prr").mechanism()
+    axis = np.array(mechanism.joint("rail3").axis)
+    turn = np.radians(25.0)
+    turned = (math.cos(turn) * axis[0] - math.sin(turn) * axis[1], math.sin(turn) * axis[0] + math.cos(turn) * axis[1])
+    skew = Mechanism(mechanism.name, mechanism.space,
+                     [dataclasses.replace(joint, axis=turned) if joint.name == "rail3" else joint
+                      for joint in mechanism.joints], mechanism.ground, mechanism.end_effector)
+    found, isotropic = mechanism_optimal_length(skew, home(skew), restarts=1)
+    assert found.value == pytest.approx(70.5305334, rel=1e-7) and found.kappa - 1.0 < 1e-8
+    assert "isolated" in found.reference and len(isotropic) == 1
