@@ -34,7 +34,7 @@ import numpy as np
 from manifold import (
     DEFAULT_RTOL, EXTENT_CUT, check_rtol, local_rank, numerical_rank, scaled_jacobian, tangent_basis, tangent_extent,
 )
-from mechanisms import CLOSURE_TOLERANCE, ConfigurationError, Mechanism, closure_and_jacobian
+from mechanisms import CLOSURE_TOLERANCE, ConfigurationError, Mechanism
 
 from .metrics import manipulability, moving_directions
 from .model import model_of
@@ -92,7 +92,7 @@ def classify(mechanism, point, survey=None, rng=None, rtol=DEFAULT_RTOL, length_
     point = np.asarray(point, dtype=float)
     manifold = model.manifold
     loop_rows = manifold.constraint(point)
-    residual, closes = closure_of(model, point)
+    residual, closes = closure_of(model, point, loop_rows)
     if not (residual <= CLOSURE_TOLERANCE and closes):
         raise ConfigurationError(f"the configuration is not on the C-space (|Φ| = {residual:.3g}); project it first")
     names = model.coordinate_names
@@ -262,16 +262,18 @@ class _Neighbourhood:
 CLOSURE_BAND = 1e-5
 
 
-def closure_of(model, point):
+def closure_of(model, point, rows=None):
     """‖Φ(p)‖ and whether p is a point of M rather than a spurious zero of Φ (a loop at a half-turn): the
     closure decision of :func:`classify`, which :func:`classify.batch.classify_many` takes again for a
     configuration within :data:`CLOSURE_BAND` of the tolerance (a point there must not be accepted alone and
-    refused in a stack). For a joint graph from :func:`mechanisms.closure_and_jacobian`'s rows.
+    refused in a stack). From Φ alone (no DΦ, which a large mechanism never forms densely).
 
     Parameters
     ----------
     model : Model
     point : ndarray, shape=[point_size]
+    rows : ndarray, shape=[c], optional
+        Φ(p), when already computed.
 
     Returns
     -------
@@ -279,11 +281,9 @@ def closure_of(model, point):
     closes : bool
     """
     point = np.asarray(point, dtype=float)
-    if model.mechanism is not None:
-        rows, turns, _ = closure_and_jacobian(model.mechanism, point[None])
-        return float(np.linalg.norm(rows, axis=-1)[0]), bool(turns[0])
     manifold = model.manifold
-    residual = float(np.linalg.norm(np.atleast_2d(manifold.constraint(point)), axis=-1)[0])
+    rows = manifold.constraint(point) if rows is None else rows
+    residual = float(np.linalg.norm(np.atleast_2d(rows), axis=-1)[0])
     return residual, manifold.is_solution is None or bool(manifold.is_solution(point))
 
 
