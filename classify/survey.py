@@ -178,25 +178,18 @@ def _margins_from_dict(data, where):
     return margins
 
 
-class _Margins:
-    """The largest σ_r / cut and σ_{r+1} / cut seen per kind over the samples, as ranks are raised."""
-
-    def __init__(self):
-        self.decisions = {}
-
-    def add(self, kind, decision):
-        self.decisions.setdefault(kind, []).append(decision)
-
-    def result(self, ranks):
-        margins = {}
-        for kind, decisions in self.decisions.items():
-            rank = ranks[kind]
-            kept = [float(decision.singular_values[rank - 1]) / decision.tolerance for decision in decisions
-                    if 0 < rank <= len(decision.singular_values)]
-            dropped = [float(decision.singular_values[rank]) / decision.tolerance for decision in decisions
-                       if rank < len(decision.singular_values)]
-            margins[kind] = {"kept": max(kept) if kept else None, "dropped": max(dropped) if dropped else None}
-        return margins
+def _margins(decisions, ranks):
+    """Per kind, the largest σ_r / cut and σ_{r+1} / cut over its decisions at the samples (kind → list of
+    RankDecision), r the kind's rank in `ranks` (:attr:`Survey.margins`)."""
+    margins = {}
+    for kind, found in decisions.items():
+        rank = ranks[kind]
+        kept = [float(decision.singular_values[rank - 1]) / decision.tolerance for decision in found
+                if 0 < rank <= len(decision.singular_values)]
+        dropped = [float(decision.singular_values[rank]) / decision.tolerance for decision in found
+                   if rank < len(decision.singular_values)]
+        margins[kind] = {"kept": max(kept) if kept else None, "dropped": max(dropped) if dropped else None}
+    return margins
 
 
 def _larger(first, second):
@@ -316,13 +309,10 @@ def survey(model, rng, starts=None, random_count=24, walk_count=24, rtol=DEFAULT
     manifold = model.manifold
     starts = model.starts if starts is None else np.atleast_2d(starts)
     points = sample_manifold(manifold, rng, starts, random_count=random_count, walk_count=walk_count)
-    margins = _Margins()
-    ranks = []
-    for point in points:
-        decision = jacobian_rank(manifold, point, rtol=rtol)
-        margins.add("constraint", decision)
-        ranks.append(decision.rank)
+    decisions = {"constraint": [jacobian_rank(manifold, point, rtol=rtol) for point in points]}
+    ranks = [decision.rank for decision in decisions["constraint"]]
     constraint_rank = max(ranks)
+    rows = np.size(manifold.constraint(points[0]))
     dof = manifold.ambient.dim - constraint_rank
     actuator_rank = 0
     end_effector_rank = joint_rank = None if not model.end_effector_dimension else 0
@@ -334,7 +324,7 @@ def survey(model, rng, starts=None, random_count=24, walk_count=24, rtol=DEFAULT
         if rank < constraint_rank:
             continue  # a C-space singularity: ker DΦ is larger than the tangent spaces of M
         basis = tangent_basis(manifold, point, rtol=rtol)[0]
-        if flexes is not False and rank < np.size(manifold.constraint(point)) and basis.shape[1]:
+        if flexes is not False and rank < rows and basis.shape[1]:
             # DΦ short of its rows: M may extend along fewer directions than ker DΦ (a part of the mechanism
             # that only flexes, at every point of M); the ranks are those on the directions M extends along.
             # Such a part flexes at every sample or at none but the special ones, so a first sample without
@@ -344,22 +334,22 @@ def survey(model, rng, starts=None, random_count=24, walk_count=24, rtol=DEFAULT
             basis = extent.moving
         blocks = decision_blocks(model, point, basis)
         actuator, actuator_scale, end_effector, end_effector_scale = blocks
-        decisions = {"actuator": numerical_rank(actuator, rtol=rtol, scale=actuator_scale)}
+        here = {"actuator": numerical_rank(actuator, rtol=rtol, scale=actuator_scale)}
         if end_effector is not None:
-            decisions["end_effector"] = numerical_rank(end_effector, rtol=rtol, scale=end_effector_scale)
-            decisions["joint"] = numerical_rank(stacked(*blocks), rtol=rtol, scale=1.0)
-        for kind, decision in decisions.items():
-            margins.add(kind, decision)
-        actuator_rank = max(actuator_rank, decisions["actuator"].rank)
+            here["end_effector"] = numerical_rank(end_effector, rtol=rtol, scale=end_effector_scale)
+            here["joint"] = numerical_rank(stacked(*blocks), rtol=rtol, scale=1.0)
+        for kind, decision in here.items():
+            decisions.setdefault(kind, []).append(decision)
+        actuator_rank = max(actuator_rank, here["actuator"].rank)
         if end_effector is None:
             if actuator_rank == bounds[0]:
                 break
             continue
-        end_effector_rank = max(end_effector_rank, decisions["end_effector"].rank)
-        joint_rank = max(joint_rank, decisions["joint"].rank)
+        end_effector_rank = max(end_effector_rank, here["end_effector"].rank)
+        joint_rank = max(joint_rank, here["joint"].rank)
         if (actuator_rank, end_effector_rank, joint_rank) == bounds:
             break
-    ranks = {"constraint": constraint_rank, "actuator": actuator_rank, "end_effector": end_effector_rank,
-             "joint": joint_rank}
+    largest = {"constraint": constraint_rank, "actuator": actuator_rank, "end_effector": end_effector_rank,
+               "joint": joint_rank}
     return Survey(len(points), constraint_rank, actuator_rank, end_effector_rank, joint_rank,
-                  margins.result(ranks))
+                  _margins(decisions, largest))
