@@ -60,7 +60,7 @@ from .metrics import JACOBI_ROWS, JACOBI_STACK, metric_root, moving_directions, 
 from .model import model_of
 from .progress import progress_bar
 from .report import KINDS
-from .survey import survey_of, unit_actuator_rows
+from .survey import stacked as stacked_rows, survey_of, unit_actuator_rows
 from .threads import ordered_map, thread_count
 
 __all__ = ["Classifications", "classify_many", "kernel_bases", "default_chunk"]
@@ -668,12 +668,10 @@ def _regular_columns(model, points, basis, constraint_rank, survey, rtol, column
         unsure |= _unsure(end_effector_margins, end_effector_tolerance, end_effector_scale * error)
 
     def stacked(selection=slice(None)):
-        """The actuator rows over their scale above the end-effector rows over theirs (classify.survey.stacked),
-        at the configurations `selection`: the map whose kernel is the idle freedoms."""
-        return np.concatenate([
-            actuator_block[selection] / max(actuator_scale, 1e-300),
-            end_effector_block[selection] / np.maximum(end_effector_scale[selection], 1e-300)[:, None, None]],
-            axis=1)
+        """The map whose kernel is the idle freedoms (:func:`classify.survey.stacked`) at the configurations
+        `selection`."""
+        return stacked_rows(actuator_block[selection], actuator_scale, end_effector_block[selection],
+                            end_effector_scale[selection])
 
     raised = constraint_rank > survey.constraint_rank
     if n and (raised or survey.joint_rank < dof):  # else the stacked rank cannot raise the survey's

@@ -277,11 +277,17 @@ def decision_blocks(model, point, basis):
 
 def stacked(actuator, actuator_scale, end_effector, end_effector_scale):
     """The actuator rows over their scale, with the end-effector rows over theirs below them (if any):
-    the map whose kernel is the idle freedoms, decided with reference scale 1."""
-    rows = [actuator / max(actuator_scale, 1e-300)]
+    the map whose kernel is the idle freedoms, decided with reference scale 1.
+
+    Of one configuration (blocks [a, m] and [n, m], scales numbers) or of a stack of them (blocks [g, a, m] and
+    [g, n, m], each scale a number or shape=[g]): shape=[..., a + n, m]."""
+    def over(rows, scale):
+        return rows / np.maximum(scale, 1e-300)[..., None, None]
+
+    rows = [over(actuator, actuator_scale)]
     if end_effector is not None:
-        rows.append(end_effector / max(end_effector_scale, 1e-300))
-    return np.vstack(rows)
+        rows.append(over(end_effector, end_effector_scale))
+    return np.concatenate(rows, axis=-2)
 
 
 def freedom_rows(model, point):
