@@ -26,6 +26,12 @@ def _number(value):
     return "0" if text == "-0" else text
 
 
+def _finite_or_none(value):
+    """A float for JSON, or None where it is not finite (JSON has no NaN)."""
+    value = float(value)
+    return value if np.isfinite(value) else None
+
+
 def format_values(values, width=100, indent="      "):
     """``name = value`` pairs as wrapped text lines (names escaped with :func:`printable`).
 
@@ -286,6 +292,15 @@ class Report:
                     "direction": _named(second.self_motion.direction, names),
                     "distance": float(second.self_motion.distance),
                     "largest_residual": float(second.self_motion.largest_residual),
+                    "cut": _finite_or_none(second.self_motion.cut),
+                    "length": _finite_or_none(second.self_motion.length),
+                    "offset": float(second.self_motion.offset),
+                },
+                "higher_order": None if second.higher_order is None else {
+                    "verdict": second.higher_order.verdict, "order": int(second.higher_order.order),
+                    "obstruction": _finite_or_none(second.higher_order.obstruction),
+                    "tolerance": _finite_or_none(second.higher_order.tolerance),
+                    "noise": _finite_or_none(second.higher_order.noise),
                 },
             }
         result = {
@@ -359,9 +374,10 @@ class Report:
                          f"(cut {second.tolerance:.1e}): {second.reason}")
             if second.self_motion is not None:
                 motion = second.self_motion
+                start = "" if motion.offset == 0.0 else f" from the singularity at distance {motion.offset:.2g}"
                 lines.append(f"      self-motion: {_format_direction(_named(motion.direction, names))}; "
-                             f"followed to distance {motion.distance:.3g}, "
-                             f"residual ≤ {motion.largest_residual:.1e}")
+                             f"followed{start} to distance {motion.distance:.3g}, "
+                             f"residual ≤ {motion.largest_residual:.1e} (cut {motion.cut:.1e})")
         describe("end-effector", self.end_effector)
         if self.manipulability is not None:
             values = ", ".join(f"{value:.4g}" for value in self.manipulability.eigenvalues)

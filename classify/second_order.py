@@ -35,6 +35,7 @@ from manifold import ImplicitManifold, constraint_curvature, continue_curve, hes
 from manifold import implicit
 
 from .higher_order import higher_order_test
+from .nearest_singularity import NEAREST_SINGULARITY_DISTANCE, nearest_singularity
 from .sphere_minima import distinct_directions, sphere_minima
 
 __all__ = [
@@ -42,9 +43,11 @@ __all__ = [
     "common_roots",
 ]
 
-#: forms count as vanishing at v when sqrt(Σ Q_e(v)²) ≤ SECOND_ORDER_RTOL · c · s, with c the largest
-#: ambient acceleration of unit-speed curves of M at p (at least 1) and s = σ₁ of the unit actuator rows times
-#: diag(s) (:func:`classify.metrics.unit_rows`; independent of the actuator weights)
+#: forms count as vanishing at v when sqrt(Σ Q_e(v)²) ≤ SECOND_ORDER_RTOL · c · s, with c the size of the
+#: ambient accelerations of curves of M at p, ``sqrt(Σᵢⱼ ‖x''(bᵢ, bⱼ)/s‖²)`` over an orthonormal tangent basis
+#: (at least 1; the same for every orthonormal basis, and at least the largest acceleration of a unit-speed
+#: curve) and s = σ₁ of the unit actuator rows times diag(s) (:func:`classify.metrics.unit_rows`; independent
+#: of the actuator weights)
 SECOND_ORDER_RTOL = 1e-6
 #: residual every point of a self-motion certificate must reach on the fibre (Φ and the actuated coordinates'
 #: rows, dimensionless), times √(its rows) (rounding adds up over the rows), or 10 times the rounding floor of Φ
@@ -79,12 +82,22 @@ class SelfMotion:
         Largest ‖(Φ, π − π(p̄))‖ along the curve.
     points : ndarray, shape=[steps + 1, point_size]
         The start first.
+    cut : float
+        The residual every point had to reach (:data:`SELF_MOTION_TOLERANCE`).
+    length : float
+        The distance the curve had to reach.
+    offset : float
+        Dimensionless distance from p̄ to the curve's start: 0 for the fibre through p̄ itself, else that through
+        the nearest point of M where the rank has dropped (:mod:`classify.nearest_singularity`).
     """
 
     direction: np.ndarray
     distance: float
     largest_residual: float
     points: np.ndarray
+    cut: float = float("nan")
+    length: float = float("nan")
+    offset: float = 0.0
 
 
 @dataclass(frozen=True, eq=False)
@@ -146,6 +159,26 @@ def fibre(manifold, point, selection):
         return np.concatenate([manifold.constraint_jacobian(q), selection], axis=-2)
 
     return ImplicitManifold(ambient, constraint, jacobian, is_solution=manifold.is_solution)
+
+
+def _self_motion(manifold, settled, selection, seeds, length, step, offset=0.0):
+    """The first certified self-motion of the fibre through ``settled = (start, floor)`` (:func:`_settled`) along
+    a seed, ``(SelfMotion, seed)``, or None. Each seed is tried with both signs, at `step` then `step / 4`."""
+    start, floor = settled
+    along = fibre(manifold, start, selection)
+    rows = np.size(along.constraint(start))
+    certified = max(SELF_MOTION_TOLERANCE * np.sqrt(rows), 10.0 * floor)
+    for root in seeds:
+        for step_size in (step, step / 4):
+            for sign in (1.0, -1.0):
+                certificate = continue_curve(along, start, sign * root, length=length, step=step_size,
+                                             tolerance=certified)
+                if certificate.reached:
+                    motion = SelfMotion(certificate.direction * manifold.ambient.tangent_scales,
+                                        certificate.distance, certificate.largest_residual, certificate.points,
+                                        certified, length, offset)
+                    return motion, sign * root
+    return None
 
 
 def _settled(manifold, point):
@@ -325,19 +358,19 @@ def common_roots(forms, tolerance, rng, starts=None, refined=16):
     return float(np.min(values)), unit[kept][values[kept] <= tolerance]
 
 
-def _largest_acceleration(manifold, point, basis):
-    """``max |x''(bᵢ, bⱼ) / s|`` over pairs of basis vectors (:func:`manifold.constraint_curvature` in
-    dimensionless units), a few columns at a time: no k×m×m array beyond :data:`manifold.implicit.CHUNK_ENTRIES`
-    floats."""
+def _acceleration_size(manifold, point, basis):
+    """``sqrt(Σᵢⱼ ‖x''(bᵢ, bⱼ) / s‖²)`` over an orthonormal basis (:func:`manifold.constraint_curvature` in
+    dimensionless units): the same for every orthonormal basis of T_p̄M (the SVD's choice, the base frame), and at
+    least the largest ``‖x''(v, v) / s‖`` of a unit v. A few columns at a time: no k×m×m array beyond
+    :data:`manifold.implicit.CHUNK_ENTRIES` floats."""
     scales = manifold.ambient.tangent_scales
     size, count = basis.shape
     chunk = max(1, implicit.CHUNK_ENTRIES // max(1, size * count))
-    largest = 0.0
+    squares = 0.0
     for start in range(0, count, chunk):
-        acceleration = np.abs(constraint_curvature(manifold, point, basis[:, start:start + chunk], right=basis))
-        acceleration /= scales[:, None, None]
-        largest = max(largest, float(np.max(acceleration, initial=0.0)))
-    return largest
+        acceleration = constraint_curvature(manifold, point, basis[:, start:start + chunk], right=basis)
+        squares += float(np.sum((acceleration / scales[:, None, None]) ** 2))
+    return float(np.sqrt(squares))
 
 
 def second_order_test(manifold, point, basis, selection, rng, rtol=1e-6, scale=None,
@@ -392,27 +425,24 @@ def second_order_test(manifold, point, basis, selection, rng, rtol=1e-6, scale=N
     kernel = basis @ kernel_coordinates                      # [k, κ]
     curvature = constraint_curvature(manifold, point, kernel)          # [k, κ, κ]
     forms = np.einsum("ae,ak,kij->eij", complement, selection, curvature)
-    curvature_scale = max(1.0, _largest_acceleration(manifold, point, basis))
+    curvature_scale = max(1.0, _acceleration_size(manifold, point, basis))
     tolerance = second_order_rtol * curvature_scale * scale
     smallest, roots = common_roots(forms, tolerance, rng)
     if not len(roots):
         return SecondOrderResult("nondegenerate", forms, kernel, smallest, tolerance, None, None,
                                  "the forms Q_e have no common nonzero root on ker G")
-    start, floor = _settled(manifold, point)
-    along = fibre(manifold, start, selection)
-    rows = np.size(along.constraint(start))
-    certified = max(SELF_MOTION_TOLERANCE * np.sqrt(rows), 10.0 * floor)
-    for vector in roots[:max_roots]:
-        root = kernel @ vector
-        for step_size in (step, step / 4):
-            for sign in (1.0, -1.0):
-                certificate = continue_curve(along, start, sign * root, length=length, step=step_size,
-                                             tolerance=certified)
-                if certificate.reached:
-                    motion = SelfMotion(certificate.direction * scales, certificate.distance,
-                                        certificate.largest_residual, certificate.points)
-                    return SecondOrderResult("degenerate", forms, kernel, smallest, tolerance, sign * root,
-                                             motion, "the fibre of the actuators continues along a common root")
+    seeds = [kernel @ vector for vector in roots[:max_roots]]
+    found = _self_motion(manifold, _settled(manifold, point), selection, seeds, length, step)
+    reason = "the fibre of the actuators continues along a common root"
+    if found is None:
+        nearest, offset, _ = nearest_singularity(manifold, point, kernel, selection)
+        if 0.0 < offset <= NEAREST_SINGULARITY_DISTANCE:
+            found = _self_motion(manifold, _settled(manifold, nearest), selection, seeds, length, step, offset)
+            reason = (f"the fibre of the actuators continues along a common root from the actuator singularity "
+                      f"nearest p̄, at distance {offset:.2g} (p̄ is singular only to the first-order cut)")
+    if found is not None:
+        motion, root = found
+        return SecondOrderResult("degenerate", forms, kernel, smallest, tolerance, root, motion, reason)
     higher = higher_order_test(manifold, point, basis, selection, kernel @ roots.T, max_order=max_order,
                                scale=scale, rank_rtol=rtol, rng=rng)
     if higher.verdict == "isolated":

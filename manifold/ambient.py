@@ -209,6 +209,40 @@ class AmbientSpace:
             moved[..., point_indices] = (rotation @ step).reshape(shape + (9 * count,))
         return moved
 
+    def bracket(self, first, second):
+        """The mixed second-order term of two charts composed: ``point ⊕ u ⊕ w = point ⊕ (u + w + B(u, w) + …)``.
+
+        ``B(u, w) = ½ u × w`` on each ``"SO3"`` factor (Baker–Campbell–Hausdorff:
+        ``exp(û) exp(ŵ) = exp((u + w + ½ u × w)^ + …)``), 0 on ``"R"`` and
+        ``"S1"``. It is what a derivative taken in the recentred chart at
+        ``point ⊕ u`` lacks to be one in the chart at `point`: for a map F,
+        ``d/du [DF(point ⊕ u) w] = D²F(u, w) + DF · B(u, w)`` at u = 0.
+
+        Parameters
+        ----------
+        first : array_like, shape=[dim, i]
+        second : array_like, shape=[dim, j]
+            Tangent vectors (columns).
+
+        Returns
+        -------
+        bracket : ndarray, shape=[dim, i, j]
+
+        Examples
+        --------
+        >>> space = AmbientSpace(("R", "SO3"))
+        >>> space.bracket(np.eye(4)[:, [1]], np.eye(4)[:, [2]])[:, 0, 0].tolist()
+        [0.0, 0.0, 0.0, 0.5]
+        """
+        first = np.asarray(first, dtype=float)
+        second = np.asarray(second, dtype=float)
+        bracket = np.zeros((self.dim, first.shape[1], second.shape[1]))
+        tangent_indices = self._indices["SO3"][1].reshape(-1, 3)
+        for indices in tangent_indices:
+            bracket[indices] = 0.5 * np.cross(first[indices].T[:, None, :], second[indices].T[None, :, :]).transpose(
+                2, 0, 1)
+        return bracket
+
     def inverse_retract(self, point, other):
         """The tangent vector ``v`` with ``point ⊕ v = other`` (angles wrapped to [-π, π)).
 

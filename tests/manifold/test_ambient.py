@@ -69,3 +69,23 @@ def test_a_scale_must_be_finite_and_positive(scale):
     """A zero scale erased its coordinates from every rank decision (the line x = 0 had rank 0)."""
     with pytest.raises(ValueError, match="finite positive"):
         AmbientSpace(("R", "R"), scales=(scale, 1.0))
+
+
+@pytest.mark.parametrize("factors", SPACES)
+def test_bracket_is_the_second_order_term_of_composed_charts(factors):
+    """``p ⊕ hu ⊕ hw = p ⊕ (hu + hw + h² B(u, w) + O(h³))`` (Baker–Campbell–Hausdorff on SO(3)): the remainder
+    after B falls like h³, and without B (on an SO3 factor) like h²."""
+    rng = np.random.default_rng(5)
+    space = AmbientSpace(factors)
+    point = space.random_point(rng)
+    first, second = rng.standard_normal((2, space.dim))
+    bracket = space.bracket(first[:, None], second[:, None])[:, 0, 0]
+
+    def remainder(size, with_bracket=True):
+        composed = space.inverse_retract(point, space.retract(space.retract(point, size * first), size * second))
+        return np.linalg.norm(composed - size * (first + second) - with_bracket * size ** 2 * bracket)
+
+    assert remainder(1e-2) / remainder(5e-3) == pytest.approx(8.0, rel=0.05) or remainder(1e-2) < 1e-14
+    if "SO3" in factors:
+        assert remainder(1e-2, False) / remainder(5e-3, False) == pytest.approx(4.0, rel=0.05)
+    np.testing.assert_array_equal(space.bracket(first[:, None], first[:, None])[:, 0, 0], 0.0)
