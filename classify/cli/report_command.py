@@ -312,7 +312,7 @@ def _json(rows):
     return dumps(result)
 
 
-def report_summary(rows, output):
+def report_summary(rows, output, json=False):
     """Three lines for the terminal: the counts by kind, the Gosselin–Angeles agreement and where the report is.
 
     Parameters
@@ -320,6 +320,8 @@ def report_summary(rows, output):
     rows : sequence of ReportRow
     output : str
         Where the report was written.
+    json : bool
+        Whether it was written as JSON (one object per configuration, no legend or table).
 
     Returns
     -------
@@ -338,7 +340,8 @@ def report_summary(rows, output):
              f"singular: {by_kind or 'none'}" + (f" (actuator: {split})" if split else ""),
              f"Gosselin–Angeles (derived): {agree} correspond, {len(rows) - agree - undefined} differ, "
              f"{undefined} undefined",
-             f"the whole report (legend, table, one account per configuration) is in {printable(output)}"]
+             (f"the whole report (one JSON object per configuration) is in {printable(output)}" if json else
+              f"the whole report (legend, table, one account per configuration) is in {printable(output)}")]
     return "\n".join(lines)
 
 
@@ -616,6 +619,6 @@ def run(arguments, out):
         out.write(text + "\n")
         return
     write_output(arguments.output, text + "\n", "--output")
-    out.write(report_summary(rows, arguments.output) + "\n")
+    out.write(report_summary(rows, arguments.output, json=arguments.format == "json") + "\n")
     if arguments.html:
         out.write(f"the same report as a page with pictures (drawings, loci) is in {printable(arguments.html)}\n")

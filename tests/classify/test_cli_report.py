@@ -48,6 +48,15 @@ def test_report_file_starts_with_a_legend_and_the_terminal_gets_a_summary(tmp_pa
     assert "== slider-crank [fig3b_actuator]" in text and "theta = 0.5236" in text
 
 
+def test_the_summary_describes_a_json_report_as_json(tmp_path, capsys):
+    """The summary said "legend, table, one account per configuration" of a JSON list of objects."""
+    output = tmp_path / "report.json"
+    status, out, _ = run(["report", "slider-crank", "--format", "json", "--output", str(output), "--jobs", "1"],
+                         capsys)
+    assert status == 0 and len(json.loads(output.read_text(encoding="utf-8"))) == 7
+    assert f"the whole report (one JSON object per configuration) is in {output}" in out and "legend" not in out
+
+
 def test_the_slider_crank_is_compared_with_its_slide_as_gosselin_angeles_do(slider_crank_json, capsys):
     """G–A 1990 eq. 9: input θ, output the slide x; driven by the slide (Park & Kim Fig. 3d), output θ."""
     status, out = slider_crank_json
