@@ -30,8 +30,11 @@ nearest point first. The held values of a reached point are the grid values
 bit for bit. All the grid points of one continuation front are computed at
 once (array work): a grid of n₁ × … × n_d points takes about n₁ + … + n_d
 fronts. An axis whose two ends are the same configurations (a held angle
-over a whole turn, both ends given) is closed on itself: its ends are
-neighbours of the points next to the other end.
+over a whole turn, both ends given) is closed on itself, both ways: its two
+ends are neighbours of each other (a reached end is continued to the other
+first, a step of zero, so the two are one configuration and get one
+verdict) and of the points next to the other end, so continuation walks
+across the ends and the map does not depend on which end is called which.
 
 **A singular start.** Where the starting configuration is singular for the
 held coordinates — DΦ restricted to the free ones, ``DΦ_free·s``, has a
@@ -475,21 +478,39 @@ def _periodic_axes(ambient, targets, shape, held):
 
 
 def _wrapped(neighbours, axes, shape):
-    """`neighbours` (:func:`grid_neighbours`) with each periodic axis closed on itself: one step back from its
-    first point is the point before its last, and one step on from its last is the point after its first. The
-    two ends being the same configurations, the grid's result then does not depend on which end a user called
-    which (the hybrid's 3-D grid over a whole turn of A reached 844 or 980 points by the sign of A's axis)."""
+    """`neighbours` (:func:`grid_neighbours`) with each periodic axis closed on itself, both ways.
+
+    The two ends of a periodic axis are one configuration: each is a neighbour of the other, and of the points
+    next to the other end (one step back from the first point is the point before the last, one step on from the
+    last is the point after the first, and the other way round). The grid's result then does not depend on which
+    end a user called which (the hybrid's 3-D grid over a whole turn of A reached 844 or 980 points by the sign of
+    A's axis), and continuation walks across the ends (the links were one-sided: a front never crossed them).
+
+    Returns
+    -------
+    ndarray, shape=[n, 2d + 2p]
+        p the number of periodic axes. First, per periodic axis, the other end (-1 off the ends): continuation
+        takes the first reached neighbour of a point in column order, and from the other end it is a step of
+        zero. Then the 2d columns of `neighbours` (column 2a of the first point of a periodic axis a the point
+        before its last, column 2a + 1 of its last the point after its first). Last, per periodic axis, the
+        other end again for the point after the first (the last) and the point before the last (the first).
+    """
     if not axes:
         return neighbours
     flat = np.arange(len(neighbours)).reshape(shape)
     neighbours = neighbours.copy()
-    for axis in axes:
+    ends = np.full((len(neighbours), len(axes)), -1, dtype=neighbours.dtype)
+    across = np.full((len(neighbours), len(axes)), -1, dtype=neighbours.dtype)
+    for column, axis in enumerate(axes):
         size = shape[axis]
         first, last = np.take(flat, 0, axis=axis).ravel(), np.take(flat, size - 1, axis=axis).ravel()
         after_first, before_last = np.take(flat, 1, axis=axis).ravel(), np.take(flat, size - 2, axis=axis).ravel()
         neighbours[first, 2 * axis] = before_last
         neighbours[last, 2 * axis + 1] = after_first
-    return neighbours
+        ends[first, column], ends[last, column] = last, first
+        across[after_first, column] = last
+        across[before_last, column] = first  # of three points, the middle one: both ends are its neighbours already
+    return np.concatenate([ends, neighbours, across], axis=1)
 
 
 def assemble_grid(mechanism, start, targets, shape, held, bar=None, with_start=False):
@@ -529,7 +550,9 @@ def assemble_grid(mechanism, start, targets, shape, held, bar=None, with_start=F
     given = np.asarray(start, dtype=float)
     starting = None  # the regular neighbour of a singular start, once needed
     count = len(targets)
-    neighbours = _wrapped(grid_neighbours(shape), _periodic_axes(ambient, targets, shape, held), shape)
+    periodic = _periodic_axes(ambient, targets, shape, held)
+    neighbours = _wrapped(grid_neighbours(shape), periodic, shape)
+    ends = neighbours[:, :len(periodic)]  # the other end of each closed axis (-1 off its ends)
     points = np.full(targets.shape, np.nan)
     reached = np.zeros(count, dtype=bool)
     tried = np.zeros(neighbours.shape, dtype=bool)
@@ -544,6 +567,13 @@ def assemble_grid(mechanism, start, targets, shape, held, bar=None, with_start=F
             keep = usable.any(axis=1)
             candidates, around, usable = candidates[keep], around[keep], usable[keep]
         if candidates.size:
+            # an end of a closed axis whose other end (of lower index) is in this front waits for it, then follows
+            # it by a step of zero: the two ends are one configuration
+            partners = ends[candidates]
+            waiting = ((partners >= 0) & (partners < candidates[:, None])
+                       & np.isin(partners, candidates)).any(axis=1)
+            waiters, candidates, around, usable = (candidates[waiting], candidates[~waiting], around[~waiting],
+                                                   usable[~waiting])
             direction = np.argmax(usable, axis=1)
             origins = around[np.arange(candidates.size), direction]
             tried[candidates, direction] = True
@@ -554,7 +584,7 @@ def assemble_grid(mechanism, start, targets, shape, held, bar=None, with_start=F
                 bar.update(int(won.size))
             following = neighbours[won].reshape(-1)
             following = following[following >= 0]
-            candidates = np.unique(np.concatenate([candidates[~ok], following[~reached[following]]]))
+            candidates = np.unique(np.concatenate([candidates[~ok], waiters, following[~reached[following]]]))
             continue
         seed = _seed(mechanism, start, targets, held, entries, distance,
                      np.flatnonzero(~reached & ~started & ~tried.any(axis=1)), started)

@@ -8,6 +8,18 @@ of its C-space M spread over the assembly branches, classifies them with one
 :func:`classify.classify_many` call and records what fraction of them is of
 each kind, and how close the regular ones came to the rank cut.
 
+A design is built as the catalogue builds it (``Entry.assemble``): at its
+parameters, the entry's inputs included (the five-bar's ``theta1``,
+``theta2``, ``assembly``) at their fixed value or default, which must close
+the loops. A design whose C-space is not empty but whose loops do not close
+at those inputs is a row with the error "cannot be built", not a design
+without configurations: the five-bar with ``distal=3`` (base 6, proximal 8)
+at the default θ1 = 1.8, θ2 = 1.3, whose elbows are 9.96 apart, farther than
+the two distal links reach (6), though at θ1 = 1, θ2 = 2 it assembles. Fix
+inputs at which every design of the sweep assembles (``--param theta1=1.0
+--param theta2=2.0``; ``"theta1=1.0"`` among the specs of
+:func:`design_grid`), or sweep them with the rest.
+
 The designs are independent, so :func:`sweep` cuts them into chunks and runs
 each chunk as one task, in this process or on a Dask cluster
 (``dask.distributed.Client``). Nothing in a design's row depends on the
@@ -284,7 +296,9 @@ def sweep_design(entry, parameters, samples, seed, index=0):
 
     Notes
     -----
-    The configurations come from :func:`classify.sample_configurations`
+    The design is built at the entry's inputs (fixed in `parameters`, else their defaults): where they do not
+    close the loops, the row's ``error`` says it cannot be built, even if its C-space is not empty (module
+    notes). The configurations come from :func:`classify.sample_configurations`
     (Gauss–Newton projections of random points of the ambient space, which
     reach the other assembly branches, and a random walk on M from the
     design's home, then `samples` of them chosen at random), so the home

@@ -60,15 +60,36 @@ def flat_row(row, prefix=""):
 
 def csv_text(rows):
     """CSV text of JSON-ready rows (:func:`flat_row`): the union of their columns in order of first appearance;
-    a missing or null value is an empty cell."""
+    a missing or null value is an empty cell.
+
+    A group or a list of numbers that is null (or an empty list) in some rows is the empty cells of the columns
+    it has in the others (``eigenvalues[0]``, …), which take its place in the order, not a column of its own."""
     flat = [flat_row(row) for row in rows]
     header = list(dict.fromkeys(name for row in flat for name in row))
+    containers = set().union(*(_containers(row) for row in rows)) - {  # a cell of its own somewhere: kept
+        name for row in flat for name, value in row.items() if value is not None and value != ""}
+    spread = {name: [column for column in header if column.startswith((f"{name}[", f"{name}_"))]
+              for name in header if name in containers}
+    header = list(dict.fromkeys(column for name in header for column in spread.get(name, [name])))
     stream = io.StringIO()
     writer = csv.writer(stream, lineterminator="\n")
     writer.writerow(header)
     for row in flat:
         writer.writerow(["" if row.get(name) is None else _cell(row[name]) for name in header])
     return stream.getvalue()
+
+
+def _containers(row, prefix=""):
+    """The flat names of a row's groups and lists of numbers (the fields :func:`flat_row` spreads over several
+    columns)."""
+    names = set()
+    for key, value in row.items():
+        name = f"{prefix}{key}"
+        if isinstance(value, dict):
+            names |= {name} | _containers(value, f"{name}_")
+        elif isinstance(value, (list, tuple)) and value and not all(isinstance(item, str) for item in value):
+            names.add(name)
+    return names
 
 
 def _cell(value):

@@ -27,9 +27,20 @@ started from a regular neighbour on M
 
 Projection (``--project``). Each grid point's configuration (the starting
 configuration with the grid coordinates set) is projected onto M
-(Gauss–Newton, :func:`manifold.project`, all points at once), which moves
-every coordinate, the grid ones included; unreachable where projection
-fails. Each point reports its projection distance.
+(Gauss–Newton, :func:`manifold.project`, all points at once but each on its
+own), which moves every coordinate, the grid ones included; unreachable
+where projection fails. Each point reports its projection distance, and its
+``displacements`` are those of the projected configuration, the one
+classified (not the grid values: ``coordinates`` gives those). Projection
+does not keep neighbouring grid points on one assembly branch (working
+mode): a point may land on another branch than its neighbours (the
+five-bar over its two inputs has isolated points of the other branch inside
+the start's); the default assembly gives a map of one branch.
+
+A grid axis over a whole turn of an angle (both ends given) is closed on
+itself: the two ends are one configuration, continuation walks across them,
+and the map does not depend on which end is called which
+(:mod:`classify.grid_continuation`).
 
 Then one :func:`classify.classify_many` over the reachable points (its chunks
 in ``--threads`` threads, every usable core by default), with the mechanism's
@@ -76,8 +87,10 @@ def add_parser(commands):
                         help="a grid axis: coordinate NAME (joint displacement from home, as --at) from a to b in n "
                              "points; repeat for more axes (at most 1e6 points in all)")
     parser.add_argument("--project", action="store_true",
-                        help="project each grid point's configuration onto the C-space (moves every coordinate) "
-                             "instead of holding the grid coordinates and solving the loops for the others")
+                        help="project each grid point's configuration onto the C-space on its own (moves every "
+                             "coordinate; neighbouring points may land on different assembly branches; the "
+                             "displacements are those classified) instead of holding the grid coordinates and "
+                             "solving the loops for the others by continuation on one branch")
     survey_option(parser)
     threads_option(parser)
     parser.add_argument("--out", default=None, metavar="FILE",
