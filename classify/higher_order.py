@@ -278,6 +278,7 @@ def taylor_coefficients(function, radius, degree, nodes=None):
 
     Examples
     --------
+    >>> from classify.higher_order import taylor_coefficients
     >>> exponential = lambda t: np.exp(2 * t)[..., None]
     >>> coefficients, errors = taylor_coefficients(exponential, 0.1, 12)
     >>> bool(np.allclose(coefficients[:4, 0], [1, 2, 2, 4 / 3], rtol=1e-10))

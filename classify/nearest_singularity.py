@@ -70,6 +70,7 @@ def nearest_singularity(manifold, point, kernel, selection, max_steps=NEAREST_SI
     --------
     A parabola π = q₁ − q₀² on the line: the actuator q₁ alone is singular only at q₀ = 0.
 
+    >>> from classify.nearest_singularity import nearest_singularity
     >>> from manifold import AmbientSpace, ImplicitManifold
     >>> line = ImplicitManifold(AmbientSpace(("R", "R")), lambda q: q[..., 1:] - q[..., :1] ** 2,
     ...                         lambda q: np.stack([-2 * q[..., :1], np.ones_like(q[..., :1])], axis=-1),

@@ -31,6 +31,7 @@ by :func:`local_cluster`, and by :func:`sweep` when it is given a client.
 
 Examples
 --------
+>>> from classify.sweep import design_grid
 >>> from mechanisms.catalogue import entry
 >>> grid = design_grid(entry("slider-crank"), ["crank=1:3:3", "coupler=2"])
 >>> len(grid), grid.parameters(2)
@@ -193,6 +194,7 @@ def design_grid(entry, specs):
 
     Examples
     --------
+    >>> from classify.sweep import design_grid
     >>> grid = design_grid("five-bar", ["assembly=-1:1:2", "theta1=0:1:3"])
     >>> grid.shape, grid.parameters(4)
     ((2, 3), {'theta1': 0.5, 'assembly': 1})
@@ -425,6 +427,7 @@ def flat_row(row):
 
     Examples
     --------
+    >>> from classify.sweep import flat_row
     >>> flat_row({"design": 0, "parameters": {"crank": 1.0}, "share": {"actuator": 0.5}})
     {'design': 0, 'parameters.crank': 1.0, 'share.actuator': 0.5}
     """
