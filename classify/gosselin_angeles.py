@@ -19,12 +19,24 @@ annihilator of V. That annihilator has dimension n exactly when
 redundant actuation, a motion moving neither inputs nor outputs) G–A is not
 defined at p and the result says why.
 
-Rank decisions (scale-aware, :func:`manifold.numerical_rank`): the rows of
-``[B A]`` are first normalised to unit length and, where they have rank n,
-replaced by an orthonormal basis of their span. Row operations change neither
-det A = 0 nor det B = 0, and after them the singular values of A and B do not
-depend on how F's rows were scaled or combined (for the derived matrices: on
-the basis T). The cut is ``rtol`` against 1, the norm of ``[B A]``.
+Rank decisions (scale-aware, :func:`manifold.numerical_rank`): the columns of
+``[B A]`` are first multiplied by the scales of their variables (below), the
+rows then normalised to unit length and, where they have rank n, replaced by
+an orthonormal basis of their span. Row operations change neither det A = 0
+nor det B = 0, and after them the singular values of A and B do not depend on
+how F's rows were scaled or combined (for the derived matrices: on the basis
+T). The cut is ``rtol`` against 1, the norm of ``[B A]``.
+
+Units. The entry ``∂Fᵢ/∂vⱼ`` of ``[B A]`` (eq. 3) carries the unit of Fᵢ over
+that of the variable vⱼ (a leg length, a position, an angle), so one row
+mixes units and its normalisation would depend on the unit of length: the
+slider-crank's eq. 12 at its fold (eq. 14) was kind II in metres and regular
+in millimetres. Given each variable's scale σⱼ (same unit as vⱼ:
+:func:`classify.comparison.relation_variable_scales` measures it on the
+mechanism), the decisions are taken on ``∂Fᵢ/∂vⱼ · σⱼ``, whose row i has the
+one unit of Fᵢ; a change of the unit of length (or of any variable's unit)
+multiplies σⱼ and divides column j by the same factor, so it changes no
+decision. Without scales the columns are taken as given (the caller's units).
 """
 
 from __future__ import annotations
@@ -246,6 +258,9 @@ class GosselinAngeles:
         A sentence for the reader.
     velocity_dimension : int or None
         dim V for derived matrices.
+    variable_scales : ndarray, shape=[2n], or None
+        The scales σ of θ then x that the columns of ``[B A]`` were
+        multiplied by before the decisions (module doc); None: as given.
     """
 
     n: int
@@ -257,6 +272,7 @@ class GosselinAngeles:
     undefined: Optional[str] = None
     detail: str = ""
     velocity_dimension: Optional[int] = None
+    variable_scales: Optional[np.ndarray] = None
 
     @property
     def defined(self):
@@ -300,6 +316,8 @@ class GosselinAngeles:
             "A_decision": decision(self.output_decision), "B_decision": decision(self.input_decision),
             "relation_decision": decision(self.relation_decision),
             "velocity_dimension": self.velocity_dimension,
+            "variable_scales": None if self.variable_scales is None else [float(value) for value in
+                                                                          self.variable_scales],
         }
 
 
@@ -307,7 +325,18 @@ def _undefined(n, reason, detail, velocity_dimension=None):
     return GosselinAngeles(n, None, None, None, None, None, reason, detail, velocity_dimension)
 
 
-def kinds_of_matrices(input_jacobian, output_jacobian, rtol=DEFAULT_RTOL, row_scales=None):
+def _variable_scales(variable_scales, n):
+    """`variable_scales` as a float array of shape [2n] (finite, positive), or None."""
+    if variable_scales is None:
+        return None
+    scales = np.asarray(variable_scales, dtype=float)
+    if scales.shape != (2 * n,) or not np.all(np.isfinite(scales) & (scales > 0)):
+        raise ValueError(f"variable_scales: expected {2 * n} finite positive scales (θ then x), got "
+                         f"{np.array2string(scales, precision=3)}")
+    return scales
+
+
+def kinds_of_matrices(input_jacobian, output_jacobian, rtol=DEFAULT_RTOL, row_scales=None, variable_scales=None):
     """Classify given matrices B (∂F/∂θ) and A (∂F/∂x), eqs. 4–5.
 
     Parameters
@@ -317,25 +346,37 @@ def kinds_of_matrices(input_jacobian, output_jacobian, rtol=DEFAULT_RTOL, row_sc
     rtol : float
         Relative cut of the rank decisions (module doc).
     row_scales : array_like, shape=[n], optional
-        Reference size of each row of ``[B A]`` (e.g. its largest norm near
-        the configuration). Rows are divided by it, so a row that vanishes
-        here (F = g², or F = g·h with g = h = 0) is seen as zero. Default:
-        each row's own norm (a row that is exactly zero stays zero).
+        Reference size of each row of ``[B A] · diag(variable_scales)`` (e.g.
+        its largest norm near the configuration). Rows are divided by it, so a
+        row that vanishes here (F = g², or F = g·h with g = h = 0) is seen as
+        zero. Default: each row's own norm (a row that is exactly zero stays
+        zero).
+    variable_scales : array_like, shape=[2n], optional
+        The scale σ of each variable, θ then x, in its own unit (module doc,
+        "Units"): column j of ``[B A]`` is multiplied by σⱼ before the
+        decisions, so that they depend on no variable's unit. Default: 1 (the
+        columns as given).
 
     Returns
     -------
     GosselinAngeles
+
+    Raises
+    ------
+    ValueError
+        If `variable_scales` is not 2n finite positive numbers.
     """
     b = np.atleast_2d(np.asarray(input_jacobian, dtype=float))
     a = np.atleast_2d(np.asarray(output_jacobian, dtype=float))
     n = b.shape[0]
     if b.shape != (n, n) or a.shape != (n, n):
         return _undefined(n, "not_square", f"B has shape {b.shape} and A {a.shape}: G–A needs n×n matrices")
+    scales = _variable_scales(variable_scales, n)
     if not (np.all(np.isfinite(a)) and np.all(np.isfinite(b))):
         return GosselinAngeles(n, b, a, None, None, None, "not_finite",
                                "A or B is not finite here: F is not differentiable (a branch point of its "
-                               "roots, eq. 9's ±√)")
-    rows = np.hstack([b, a])
+                               "roots, eq. 9's ±√)", variable_scales=scales)
+    rows = np.hstack([b, a]) if scales is None else np.hstack([b, a]) * scales
     lengths = np.linalg.norm(rows, axis=1) if row_scales is None else np.asarray(row_scales, dtype=float)
     normalised = rows / np.where(lengths > 0, lengths, 1.0)[:, None]
     relation = numerical_rank(normalised, rtol=rtol, scale=1.0)
@@ -344,54 +385,97 @@ def kinds_of_matrices(input_jacobian, output_jacobian, rtol=DEFAULT_RTOL, row_sc
     detail = "" if relation.rank == n else (f"[B A] has rank {relation.rank} < {n}: F's differential is "
                                             f"degenerate, so det A = det B = 0")
     return GosselinAngeles(n, b, a, numerical_rank(normalised[:, :n], rtol=rtol, scale=1.0),
-                           numerical_rank(normalised[:, n:], rtol=rtol, scale=1.0), relation, None, detail)
+                           numerical_rank(normalised[:, n:], rtol=rtol, scale=1.0), relation, None, detail,
+                           variable_scales=scales)
 
 
 #: relative step of the variables when sizing the rows of a given F, and when testing that its
-#: derivative is continuous (:func:`gosselin_angeles`)
+#: derivative is continuous (:func:`gosselin_angeles`): a variable moves by this times its scale
 VARIABLE_STEP = 1e-2
+#: how many times the kink test divides the step by 10 (:func:`gosselin_angeles`): from VARIABLE_STEP down
+#: to VARIABLE_STEP · 10⁻⁶ = 10⁻⁸ times each variable's scale, the resolution at which a kink counts as here
+KINK_LEVELS = 6
 
 
-def _rows_around(relation, variables, n, step):
-    """Rows of [B A] at each variable moved by ``± step · (1 + |value|)``, shape=[2 · 2n, n, 2n]."""
+def _rows_around(relation, variables, n, steps):
+    """Rows of [B A] at each variable moved by ``± steps[index]``, shape=[2 · 2n, n, 2n]."""
     rows = []
     for index in range(len(variables)):
         for sign in (-1.0, 1.0):
             moved = variables.copy()
-            moved[index] += sign * step * (1.0 + abs(moved[index]))
+            moved[index] += sign * steps[index]
             with np.errstate(all="ignore"):
                 rows.append(np.hstack(relation.jacobians(moved[:n], moved[n:])))
     return np.array(rows)
 
 
-def _kinked(near, far):
-    """Whether [B A] jumps across the point: its change over ± step does not shrink with the step.
+def _jumps(rows, columns):
+    """The change of each row of ``[B A] · diag(columns)`` from − to + of each variable, shape=[2n, n]."""
+    return np.linalg.norm((rows[1::2] - rows[0::2]) * columns, axis=-1)
+
+
+def _kinked(relation, variables, n, steps, far, columns):
+    """Whether [B A] jumps across the point: its change over ± h does not shrink with h, down to a fine h.
 
     For a differentiable F the rows at ±h differ by O(h); where F has a kink
-    (‖w‖ at w = 0, a ±√ at its branch point) they differ by O(1) however
-    small h. `near` and `far` are the rows at ±h/10 and ±h (pairs of rows in
-    order −, +), shape=[2 · 2n, n, 2n].
+    (‖w‖ at w = 0) they differ by O(1) however small h. A kink at a distance
+    d from the point looks the same for h > d only: below d the change
+    shrinks like h. So h goes from `steps` down by factors of 10,
+    :data:`KINK_LEVELS` times, and F is kinked here if, for one row and one
+    variable, the change over ± h is more than a tenth of the row's size at
+    the first step and more than half the previous one at every step; a
+    kink farther than ``steps · 10⁻⁶`` from the point is not one here (a leg
+    of length 10⁻³ is no kink of ``c − ‖w‖``). Rows that are not finite at a
+    finer step end the test (no kink is claimed).
+
+    Parameters
+    ----------
+    relation : InputOutputRelation
+    variables : ndarray, shape=[2n]
+        θ then x.
+    n : int
+    steps : ndarray, shape=[2n]
+        The first step of each variable.
+    far : ndarray, shape=[2 · 2n, n, 2n]
+        :func:`_rows_around` at `steps` (finite).
+    columns : ndarray, shape=[2n]
+        Scales of the columns of ``[B A]`` (module doc, "Units").
+
+    Returns
+    -------
+    bool
     """
-    jump_near = np.linalg.norm(near[1::2] - near[0::2], axis=-1)
-    jump_far = np.linalg.norm(far[1::2] - far[0::2], axis=-1)
-    size = np.max(np.linalg.norm(far, axis=-1), axis=0)
+    previous = _jumps(far, columns)
+    size = np.max(np.linalg.norm(far * columns, axis=-1), axis=0)
     with np.errstate(all="ignore"):
-        return bool(np.any((jump_far > 0.1 * size) & (jump_near > 0.5 * jump_far)))
+        candidates = previous > 0.1 * size
+    for level in range(1, KINK_LEVELS + 1):
+        if not np.any(candidates):
+            return False
+        near = _rows_around(relation, variables, n, steps / 10.0 ** level)
+        if not np.all(np.isfinite(near)):
+            return False
+        jump = _jumps(near, columns)
+        with np.errstate(all="ignore"):
+            candidates &= jump > 0.5 * previous
+        previous = jump
+    return bool(np.any(candidates))
 
 
-def gosselin_angeles(relation, inputs, outputs, rtol=DEFAULT_RTOL, row_scales=None):
+def gosselin_angeles(relation, inputs, outputs, rtol=DEFAULT_RTOL, row_scales=None, variable_scales=None):
     """Classify one configuration (θ, x) with a given relation F (eqs. 3–5).
 
-    Each row of ``[B A]`` is measured against its size around (θ, x): its
-    largest norm there and with each variable moved by
-    ``± VARIABLE_STEP · (1 + |value|)`` (off M), so that a row which vanishes
-    at (θ, x), or on the whole branch of M through it (F written with squared
-    or factored terms), counts as zero. Where A or B is not finite, or, for a
-    relation given by F, ``[B A]`` jumps across (θ, x) (its change over ± h/10
-    is more than half its change over ± h: a kink of F such as ‖w‖ at w = 0),
-    F is not differentiable and G–A is undefined. (A velocity relation, the
-    paper's A and B without F, may have kinks: eq. 12's A = √(1 − sin² θ) at
-    R = l.)
+    Each row of ``[B A]`` (columns times `variable_scales`, module doc) is
+    measured against its size around (θ, x): its largest norm there and with
+    each variable moved by ``± VARIABLE_STEP · σ`` (off M; σ its scale, or
+    ``1 + |value|`` without scales), so that a row which vanishes at (θ, x),
+    or on the whole branch of M through it (F written with squared or
+    factored terms), counts as zero. Where A or B is not finite, or, for a
+    relation given by F, ``[B A]`` jumps across (θ, x) (its change over ± h
+    does not shrink as h goes down from that step to 10⁻⁶ of it,
+    :func:`_kinked`: a kink of F such as ‖w‖ at w = 0), F is not
+    differentiable and G–A is undefined. (A velocity relation, the paper's A
+    and B without F, may have kinks: eq. 12's A = √(1 − sin² θ) at R = l.)
 
     Parameters
     ----------
@@ -402,32 +486,41 @@ def gosselin_angeles(relation, inputs, outputs, rtol=DEFAULT_RTOL, row_scales=No
     row_scales : array_like, shape=[n], optional
         Sizes of the rows (default: measured around (θ, x) as above); see
         :func:`kinds_of_matrices`.
+    variable_scales : array_like, shape=[2n], optional
+        Scale of each variable, θ then x, in its unit
+        (:func:`classify.comparison.relation_variable_scales`); with them no
+        decision depends on the unit of length. Default: the columns as
+        given, steps ``VARIABLE_STEP · (1 + |value|)``.
 
     Returns
     -------
     GosselinAngeles
+
+    Raises
+    ------
+    ValueError
+        If θ or x does not have n entries, or `variable_scales` is not 2n finite positive numbers.
     """
     inputs, outputs = np.asarray(inputs, dtype=float), np.asarray(outputs, dtype=float)
     if inputs.shape != (relation.n,) or outputs.shape != (relation.n,):
         raise ValueError(f"relation {relation.name!r}: expected {relation.n} inputs and outputs, got shapes "
                          f"{inputs.shape} and {outputs.shape}")
+    scales = _variable_scales(variable_scales, relation.n)
     b, a = relation.jacobians(inputs, outputs)
     if row_scales is None and np.all(np.isfinite(b)) and np.all(np.isfinite(a)):
         variables = np.concatenate([inputs, outputs])
-        far = _rows_around(relation, variables, relation.n, VARIABLE_STEP)
+        columns = np.ones(2 * relation.n) if scales is None else scales
+        steps = VARIABLE_STEP * ((1.0 + np.abs(variables)) if scales is None else scales)
+        far = _rows_around(relation, variables, relation.n, steps)
         finite = np.where(np.isfinite(far), far, 0.0)
-        row_scales = np.max(np.concatenate([np.linalg.norm(np.hstack([b, a]), axis=1)[None],
-                                            np.linalg.norm(finite, axis=-1)]), axis=0)
-        if relation.residual is not None and np.all(np.isfinite(far)):
-            near = _rows_around(relation, variables, relation.n, VARIABLE_STEP / 10)
-            kinked = np.all(np.isfinite(near)) and _kinked(near, far)
-        else:
-            kinked = False
-        if kinked:
+        row_scales = np.max(np.concatenate([np.linalg.norm(np.hstack([b, a]) * columns, axis=1)[None],
+                                            np.linalg.norm(finite * columns, axis=-1)]), axis=0)
+        if relation.residual is not None and np.all(np.isfinite(far)) and \
+                _kinked(relation, variables, relation.n, steps, far, columns):
             return GosselinAngeles(relation.n, b, a, None, None, None, "not_differentiable",
                                    "[B A] jumps across this configuration: F has a kink here (e.g. ‖w‖ at "
-                                   "w = 0), its derivative is not defined")
-    return kinds_of_matrices(b, a, rtol=rtol, row_scales=row_scales)
+                                   "w = 0), its derivative is not defined", variable_scales=scales)
+    return kinds_of_matrices(b, a, rtol=rtol, row_scales=row_scales, variable_scales=scales)
 
 
 def derived_gosselin_angeles(model, point, basis, rtol=DEFAULT_RTOL):
