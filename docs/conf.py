@@ -119,6 +119,7 @@ def _write_catalogue_table(app):
 
 #: ``closedchain compare`` runs shown in comparison.rst: file stem → arguments
 COMPARISONS = {
+    "outputs_slide": ["slider-crank", "--configuration", "fig3b_actuator", "--outputs", "slide", "--samples", "2"],
     "branch_point_eq9": ["slider-crank", "--configuration", "fig3b_actuator", "--outputs", "slide",
                          "--relation", "eq9", "--samples", "3"],
     "branch_point_eq12": ["slider-crank", "--configuration", "fig3b_actuator", "--outputs", "slide",
