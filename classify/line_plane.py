@@ -33,7 +33,8 @@ from .line_plane_design import (
     FAMILY_RTOL, DesignError, LinePlaneDesign, RearrangementError, architecture_margin, cofactors,
     line_plane_design, normalised, normalised_cofactors)
 from .line_plane_files import FILE_RTOL, design_from_mechanism
-from .line_plane_pencil import FAMILIES, Family, b_infinity, b_line, b_line_direction, b_point, family, lambda_plus
+from .line_plane_pencil import (FAMILIES, Family, b_infinity, b_line, b_line_direction, b_point, family, lambda_plus,
+                                oriented_b_line)
 from .line_plane_rearrangements import move_base, move_platform
 from .line_plane_singularities import (
     SingularityReading, jacobian_determinant, leg_jacobian, singularity_margin, singularity_polynomial,
@@ -43,7 +44,8 @@ __all__ = [
     "FAMILIES", "FAMILY_RTOL", "FILE_RTOL", "DesignError", "RearrangementError", "LinePlaneDesign", "Family",
     "SingularityReading", "line_plane_design", "normalised", "cofactors", "normalised_cofactors",
     "architecture_margin",
-    "b_point", "b_infinity", "b_line", "b_line_direction", "lambda_plus", "family", "singularity_polynomial",
+    "b_point", "b_infinity", "b_line", "oriented_b_line", "b_line_direction", "lambda_plus", "family",
+    "singularity_polynomial",
     "singularity_margin", "singularity_reading", "leg_jacobian", "jacobian_determinant", "move_base",
     "move_platform", "design_from_mechanism",
 ]

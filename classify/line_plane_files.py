@@ -18,8 +18,10 @@ from .line_plane_design import DesignError, line_plane_design
 
 __all__ = ["FILE_RTOL", "design_from_mechanism"]
 
-#: relative cut of the plane and line tests of :func:`design_from_mechanism`: a mechanism file written by hand
-#: carries about six significant digits, i.e. errors up to 5e-7 of its largest coordinate; 1e-5 leaves a margin
+#: relative cut of the plane and line tests of :func:`design_from_mechanism`, a fraction of the size of the legs'
+#: attachments (their largest distance from their centroid, which no rigid motion of the file changes): a mechanism
+#: file written by hand carries about six significant digits, errors up to 5e-7 of its coordinates; 1e-5 leaves a
+#: margin for a file whose origin lies within a few sizes of the robot
 FILE_RTOL = 1e-5
 
 
@@ -30,9 +32,14 @@ def design_from_mechanism(mechanism, rtol=FILE_RTOL):
     the five legs ending on one platform link. The S centres are the base
     attachments and must be coplanar (Π); the U (R) centres at home are the
     platform attachments and must be collinear (Λ). The design is read in
-    the frame of Π: the file's frame when Π is its plane z = 0, else the
-    file's frame moved by the least rotation that turns the normal of Π to
-    +z, and shifted along that normal, so that Π is z = 0. The origin p of Λ
+    the frame of Π, always fitted: the file's frame shifted along the fitted
+    normal of Π (its offset subtracted) and turned by the least rotation
+    that takes that normal to +z, so that Π is z = 0 (when Π is the file's
+    plane z = c, the frame is the file's lowered by c). The tolerance of
+    both tests is rtol times the size of the attachments (their largest
+    distance from their centroid), so that a rigid motion of the file
+    changes neither the verdicts nor the design: a point off Π or Λ by more
+    is refused, never projected. The origin p of Λ
     is the end-effector point when it lies on Λ, else the platform
     attachment of the first leg; i is the second axis of the first U joint
     (in the order of the legs) when it lies along Λ, else the direction
@@ -43,8 +50,9 @@ def design_from_mechanism(mechanism, rtol=FILE_RTOL):
     mechanism : Mechanism
     rtol : float
         Relative cut of the plane and line tests: a distance from the fitted
-        plane or line at most rtol × the largest coordinate (or the spread of
-        the attachments, if larger) is rounding (:data:`FILE_RTOL`).
+        plane or line at most rtol × the size of the attachments (the largest
+        distance of an S or U centre from the centroid of the ten) is
+        rounding (:data:`FILE_RTOL`).
 
     Returns
     -------
@@ -92,8 +100,9 @@ def design_from_mechanism(mechanism, rtol=FILE_RTOL):
         raise DesignError(f"mechanism: the five legs must end on one platform link, found {sorted(platforms)}",
                           "mechanism")
     base, attachments = np.array(base), np.array(attachments)
-    scale = max(float(np.max(np.abs(np.concatenate([base, attachments])))),
-                float(np.ptp(base, axis=0).max()), float(np.ptp(attachments, axis=0).max()), 1e-300)
+    points = np.concatenate([base, attachments])
+    # a size no rigid motion of the file changes (the largest coordinate made the cuts frame-dependent)
+    scale = max(float(np.max(np.linalg.norm(points - points.mean(axis=0), axis=1))), 1e-300)
     frame = _base_frame(base, rtol * scale)
     base, attachments = frame(base), frame(attachments)
     centre = attachments.mean(axis=0)
@@ -101,7 +110,8 @@ def design_from_mechanism(mechanism, rtol=FILE_RTOL):
     direction = rows[0]
     if singular_values[1] > rtol * scale:
         raise DesignError(f"mechanism: the platform attachments (U joints) must be collinear (the line Λ): they lie "
-                          f"{singular_values[1]:.3g} from the best line, more than {rtol:g} × {scale:.3g}",
+                          f"{singular_values[1]:.3g} from the best line, more than {rtol:g} × {scale:.3g} (the "
+                          f"size of the attachments)",
                           "mechanism")
     along = [frame(axis, vector=True) for axis in axes if axis is not None]
     # along Λ: sine of the angle ≤ 1e-3 (a rounded file is off by ~1e-6; an axis not along Λ is far off)
@@ -124,12 +134,12 @@ def design_from_mechanism(mechanism, rtol=FILE_RTOL):
 def _base_frame(base, tolerance):
     """The change of frame that puts the plane of the base attachments at z = 0: points -> points, shape=[..., 3].
 
-    The identity when the attachments already lie within `tolerance` of
-    z = 0; else the least rotation turning the fitted normal n (n_z ≥ 0) to
-    +z, after a shift along n. With ``vector=True`` the rotation alone.
+    Always fitted (the offset of Π subtracted, whatever its size): a shift
+    along the fitted normal n (n_z ≥ 0) by the plane's offset n·c̄, then the
+    least rotation turning n to +z (the identity when n = +z). With
+    ``vector=True`` the rotation alone. Raises DesignError when the
+    attachments lie farther than `tolerance` from the fitted plane.
     """
-    if np.max(np.abs(base[:, 2])) <= tolerance:
-        return lambda points, vector=False: np.asarray(points, dtype=float)
     centre = base.mean(axis=0)
     _, singular_values, rows = np.linalg.svd(base - centre)
     if singular_values[2] > tolerance:

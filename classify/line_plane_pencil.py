@@ -36,9 +36,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .line_plane_design import FAMILY_RTOL, RearrangementError, architecture_margin, cofactors, normalised_cofactors
+from .line_plane_design import (
+    FAMILY_RTOL, RearrangementError, architecture_margin, cofactors, normalised, normalised_cofactors)
 
-__all__ = ["FAMILIES", "Family", "family", "b_point", "b_infinity", "b_line", "b_line_direction", "lambda_plus"]
+__all__ = ["FAMILIES", "Family", "family", "b_point", "b_infinity", "b_line", "oriented_b_line", "b_line_direction",
+           "lambda_plus"]
 
 #: the families of Section IV, and the degenerate case of Section III-A
 FAMILIES = ("quartic", "cubic", "quadratic", "architecturally singular")
@@ -140,16 +142,55 @@ def family(design, rtol=FAMILY_RTOL):
     return Family(name, architecture, b_margin, b_inf_margin, rtol)
 
 
+def _frame(design):
+    """The normalised frame: (centre (x̄, ȳ, z̄), L, the cofactors C′ of :func:`~.normalised` (design)).
+
+    Every point, line and distance of the pencil is computed from C′ in the
+    normalised frame (x′ = (x − x̄)/L, y′ = (y − ȳ)/L, z′ = (z − z̄)/L), where the
+    cofactors do not cancel, and mapped back: the raw B-surface (13) is
+    f(x, y, z) = L⁷ f′(x′, y′, z′) (the rows of (12) change by a triangular
+    matrix of determinant L⁷), so the raw cofactors are never needed and the
+    results move with the base frame and Λ's origin to rounding.
+    """
+    return design.centre, design.characteristic_length, cofactors(normalised(design))
+
+
+def _unframe_line(line, centre, length):
+    """A line (a′, b′, c′) of the normalised frame in the design's frame: (a′, b′, Lc′ − a′x̄ − b′ȳ), shape=[..., 3]."""
+    line = np.asarray(line, dtype=float)
+    return np.concatenate([line[..., :2], (length * line[..., 2] - line[..., 0] * centre[0]
+                                            - line[..., 1] * centre[1])[..., None]], axis=-1)
+
+
+def _orientation(line, base):
+    """+1 or −1 per line (a′, b′, c′), shape=[..., 3], of the normalised frame: the side of the base centroid.
+
+    The centroid is the origin there, so the sign of c′; when it lies on the
+    line (``|c′|`` ≤ 64ε ‖(a′, b′)‖), the side of the base attachment farthest
+    from it (`base`, shape=[5, 2], normalised), which no numbering changes.
+    """
+    line = np.asarray(line, dtype=float)
+    normal = np.linalg.norm(line[..., :2], axis=-1)
+    values = np.einsum("...k,nk->...n", line[..., :2], base) + line[..., 2:3]
+    farthest = np.take_along_axis(values, np.argmax(np.abs(values), axis=-1)[..., None], axis=-1)[..., 0]
+    on = np.abs(line[..., 2]) <= 64 * np.finfo(float).eps * normal
+    return np.where(np.where(on, farthest, line[..., 2]) < 0, -1.0, 1.0)
+
+
 def b_point(design, rtol=FAMILY_RTOL):
     """B (16), the vertex of the pencil of B-lines, shape=[2]; None when at infinity (or singular design).
 
-    B = ((C₃C₁ − C₆C₅), −(C₂C₁ − C₄C₆)) / (C₂C₅ − C₄C₃).
+    B = ((C₃C₁ − C₆C₅), −(C₂C₁ − C₄C₆)) / (C₂C₅ − C₄C₃), evaluated on the
+    cofactors of the normalised design and mapped back (x̄, ȳ) + L B′, so that it
+    moves with the base frame and Λ's origin (the raw cofactors cancel far from
+    the origin).
     """
     if family(design, rtol).name != "quartic":
         return None
-    c1, c2, c3, c4, c5, c6 = cofactors(design)
+    centre, length, (c1, c2, c3, c4, c5, c6) = _frame(design)
     denominator = c2 * c5 - c4 * c3
-    return np.array([(c3 * c1 - c6 * c5) / denominator, -(c2 * c1 - c4 * c6) / denominator])
+    point = np.array([(c3 * c1 - c6 * c5) / denominator, -(c2 * c1 - c4 * c6) / denominator])
+    return centre[:2] + length * point
 
 
 def b_infinity(design, rtol=FAMILY_RTOL):
@@ -157,17 +198,26 @@ def b_infinity(design, rtol=FAMILY_RTOL):
 
     The sign of (a, b, c) is fixed by the design, not by the sign of the
     cofactors (hence not by the leg numbering): the normal (a, b) points to
-    the side of B∞ that holds the centroid ā of the base attachments.
+    the side of B∞ that holds the centroid ā of the base attachments (when ā
+    lies on B∞, the side of the base attachment farthest from it). Computed in
+    the normalised frame and mapped back.
     """
     if family(design, rtol).name in ("quadratic", "architecturally singular"):
         return None
-    c1, c2, c3, c4, c5, c6 = cofactors(design)
+    centre, length, (c1, c2, c3, c4, c5, c6) = _frame(design)
     line = np.array([c4, c5, c1]) / np.hypot(c4, c5)
-    return _centroid_side(design, line) * line
+    line = _orientation(line, normalised(design).base) * line
+    return _unframe_line(line, centre, length)
 
 
 def b_line(design, z):
     """The B-line B_z (14): coefficients (C₂ + zC₄, C₃ + zC₅, C₆ + zC₁) of ax + by + c = 0, shape=[..., 3].
+
+    Evaluated in the normalised frame and mapped back (the identity
+    f = L⁷ f′ of the B-surface gives these coefficients as L⁶ times the mapped
+    normalised ones), so that the line moves with the base frame and Λ's
+    origin; the sign is the cofactors', which a renumbering of the legs flips
+    (:func:`oriented_b_line` has a sign of its own).
 
     Parameters
     ----------
@@ -175,22 +225,64 @@ def b_line(design, z):
     z : array_like, shape=[...]
         Platform coordinates; ``numpy.inf`` gives B∞ (C₄, C₅, C₁).
     """
-    c1, c2, c3, c4, c5, c6 = cofactors(design)
+    centre, length, _ = _frame(design)
+    z = np.asarray(z, dtype=float)
+    lines = _normalised_b_line(design, z)
+    scale = np.where(np.isinf(z), length ** 5, length ** 6)[..., None]
+    return scale * _unframe_line(lines, centre, length)
+
+
+def _normalised_b_line(design, z):
+    """B_z′ of the normalised design, z′ = (z − z̄)/L (B∞′ at z = ±∞), shape=[..., 3]."""
+    centre, length, (c1, c2, c3, c4, c5, c6) = _frame(design)
     z = np.asarray(z, dtype=float)
     infinite = np.isinf(z)
-    finite_z = np.where(infinite, 0.0, z)
+    finite_z = (np.where(infinite, centre[2], z) - centre[2]) / length
     lines = np.stack([c2 + finite_z * c4, c3 + finite_z * c5, c6 + finite_z * c1], axis=-1)
     return np.where(infinite[..., None], np.array([c4, c5, c1]), lines)
+
+
+def oriented_b_line(design, z, rtol=FAMILY_RTOL):
+    """The B-line B_z as (a, b, c) with a² + b² = 1, signed as :func:`b_infinity`, shape=[..., 3].
+
+    The normal (a, b) points to the side of B_z that holds the centroid ā of
+    the base attachments (when ā lies on B_z, the side of the base attachment
+    farthest from it), so that the coefficients do not change with the leg
+    numbering or the sign of i, and move with the base frame. NaN where B_z is
+    at infinity, ‖(a′, b′)‖ ≤ rtol ‖(a′, b′, c′)‖ in the normalised frame.
+
+    Parameters
+    ----------
+    design : LinePlaneDesign
+    z : array_like, shape=[...]
+        Platform coordinates.
+    rtol : float
+    """
+    centre, length, _ = _frame(design)
+    lines = _oriented_normalised_b_line(design, z, rtol)
+    return _unframe_line(lines, centre, length)
+
+
+def _oriented_normalised_b_line(design, z, rtol=FAMILY_RTOL):
+    """:func:`oriented_b_line` in the normalised frame (unit normal, signed), NaN at infinity, shape=[..., 3]."""
+    lines = _normalised_b_line(design, z)
+    normal = np.hypot(lines[..., 0], lines[..., 1])
+    finite = normal > rtol * np.linalg.norm(lines, axis=-1)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        unit = lines / np.where(finite, normal, 1.0)[..., None]
+    unit = _orientation(unit, normalised(design).base)[..., None] * unit
+    return np.where(finite[..., None], unit, np.nan)
 
 
 def b_line_direction(design, index):
     """Unit direction of the B-line through base attachment `index` (0-based), shape=[2].
 
-    The line B_{zᵢ} has normal (C₂ + zᵢC₄, C₃ + zᵢC₅); its direction is that
-    normal turned by +90°, signed so that its x component is positive (or, for
-    a line parallel to the y axis, its y component).
+    The line B_{zᵢ} has normal (C₂ + zᵢC₄, C₃ + zᵢC₅) (normalised frame: the
+    same direction); its direction is that normal turned by +90°, signed so
+    that its x component is positive (or, for a line parallel to the y axis,
+    its y component).
     """
-    line = b_line(design, design.platform[index])
+    line = _normalised_b_line(design, design.platform[index])
     direction = np.array([-line[1], line[0]])
     norm = np.linalg.norm(direction)
     if not norm > 0:
@@ -201,11 +293,6 @@ def b_line_direction(design, index):
     if direction[0] < -1e-12 * scale or (abs(direction[0]) <= 1e-12 * scale and direction[1] < 0):
         direction = -direction
     return direction
-
-
-def _centroid_side(design, line):
-    """+1 or −1: the side of the line ax + by + c = 0 that holds the centroid of the base attachments (+1 on it)."""
-    return -1.0 if line[:2] @ design.centre[:2] + line[2] < 0 else 1.0
 
 
 def lambda_plus(design, rtol=FAMILY_RTOL):
@@ -240,24 +327,29 @@ def lambda_plus(design, rtol=FAMILY_RTOL):
     the copy on the side of B∞ where ā lies, β = sign(β(ā))``|κ|``: it does not
     depend on the leg numbering, the sign of i, the base frame or the unit.
     Its mirror image in B∞ is the other copy; when ā lies on B∞ the two are
-    equally near it and the choice follows the sign of the cofactors.
+    equally near it and the choice follows the side of the base attachment
+    farthest from B∞. Computed in the normalised frame and mapped back, so
+    that it moves with the base frame and Λ's origin.
 
     References
     ----------
     Borràs, Thomas & Torras 2011 eq. (23), Fig. 8.
     """
-    infinity = b_infinity(design, rtol)
-    if infinity is None:
+    if b_infinity(design, rtol) is None:
         return None
-    c1, c2, c3, c4, c5, c6 = cofactors(design)
+    centre, length, (c1, c2, c3, c4, c5, c6) = _frame(design)
     norm = np.hypot(c4, c5)
-    line = infinity - np.array([0.0, 0.0, abs(c2 * c5 - c3 * c4) / norm ** 2])
+    primed = np.array([c4, c5, c1]) / norm
+    primed = _orientation(primed, normalised(design).base) * primed - np.array([0.0, 0.0, abs(c2 * c5 - c3 * c4)
+                                                                                 / norm ** 2])
+    line = _unframe_line(primed, centre, length)
     if b_point(design, rtol) is None:
         return line, None
-    origin = np.linalg.solve(np.array([line[:2], [c2, c3]]), -np.array([line[2], c6]))
-    direction = np.array([line[1], -line[0]])
+    origin = np.linalg.solve(np.array([primed[:2], [c2, c3]]), -np.array([primed[2], c6]))
+    direction = np.array([primed[1], -primed[0]])
     # q₀ + z d lies on B_z for every z iff (C₂, C₃)·d + (C₄, C₅)·q₀ + C₁ = 0: true for d or for −d
     along, offset = np.array([c2, c3]) @ direction, np.array([c4, c5]) @ origin + c1
     if abs(offset - along) < abs(offset + along):
         direction = -direction
-    return line, origin + design.platform[:, None] * direction
+    # b⁺ᵢ = (x̄, ȳ) + L(q₀′ + zᵢ′ d), zᵢ′ = (zᵢ − z̄)/L, in the design's frame
+    return line, centre[:2] + length * origin + (design.platform - centre[2])[:, None] * direction

@@ -21,7 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .line_plane_design import cofactors, normalised
-from .line_plane_pencil import b_line
+from .line_plane_pencil import _oriented_normalised_b_line
 
 __all__ = ["SingularityReading", "singularity_polynomial", "singularity_margin", "singularity_reading",
            "leg_jacobian", "jacobian_determinant"]
@@ -43,7 +43,10 @@ class SingularityReading:
     z : float or None
         μ = −p_z/w: the coordinate along Λ of A, whose B-line B_μ decides.
     distance : float or None
-        Signed distance from A to the B-line B_μ (None when parallel, or B_μ at infinity).
+        Signed distance from A to the B-line B_μ (None when parallel, or B_μ at
+        infinity), positive on the side of B_μ that holds the centroid ā of the
+        base attachments (as :func:`~classify.line_plane_pencil.oriented_b_line`):
+        it does not change with the leg numbering or the sign of i.
     """
 
     singular: bool
@@ -149,9 +152,12 @@ def singularity_reading(design, position, direction, rtol=1e-9):
         return SingularityReading(singular, margin, True)
     mu = -p_z / w
     intersection = np.array([p_x + mu * u, p_y + mu * v])
-    line = b_line(design, mu)
-    norm = np.linalg.norm(line[:2])
-    distance = float((line[:2] @ intersection + line[2]) / norm) if norm > 0 else None
+    # the distance in the normalised frame (A′ = p′ + μ′i, μ′ = (μ − z̄)/L), times L: it moves with the frame
+    primed, _ = _normalised_pose(design, position, direction)
+    primed = primed[:2] - primed[2] / w * direction[:2]
+    line = _oriented_normalised_b_line(design, mu)
+    length = design.characteristic_length
+    distance = None if np.isnan(line[0]) else float(length * (line[:2] @ primed + line[2]))
     return SingularityReading(singular, margin, False, intersection, float(mu), distance)
 
 

@@ -16,13 +16,20 @@ infinity; ``B_inf`` (15) as line coefficients (a, b, c), a² + b² = 1, or
 null at infinity; ``Lambda_plus`` (23) or null
 (:func:`classify.line_plane_pencil.lambda_plus`: the copy on the side of B∞ of the
 base attachments' centroid); ``b_lines`` (the B-line of each leg, (a, b, c)
-normalised likewise, null at infinity). For an architecturally singular
-design all Cⱼ vanish: ``cofactors``, ``B``, ``B_inf``, ``Lambda_plus`` and
-``b_lines`` are null (undefined, whatever rounding left in
-``cofactor_scale``). With a mechanism, ``pose`` (p, i at home) and
-``singularity`` (the reading of (17) there); with ``--legs``,
-``assembly_modes`` (the polynomial route, real ones first, each with its
-residual and multiplicity: coincident modes, at the leg lengths of a singular
+with a² + b² = 1, signed as ``B_inf``: the centroid on its positive side, so
+that a renumbering of the legs or a flip of i leaves each leg's line
+unchanged; :func:`classify.line_plane_pencil.oriented_b_line`; null at
+infinity). B, ``B_inf``, ``Lambda_plus`` and ``b_lines`` are computed in the
+normalised frame and mapped back, so they move with the base frame. For an
+architecturally singular design all Cⱼ vanish: ``cofactors``, ``B``,
+``B_inf``, ``Lambda_plus`` and ``b_lines`` are null (undefined, whatever
+rounding left in ``cofactor_scale``). With a mechanism, ``pose`` (p, i at home, in the frame
+of the fitted base plane) and ``singularity`` (the reading of (17) there:
+``singular``, ``margin``, ``parallel``, ``intersection`` A, ``z`` μ and
+``distance`` from A to B_μ, positive on the side of the base centroid); with
+``--legs``, ``legs`` (the five leg lengths as given, in the order of the
+legs) and ``assembly_modes`` (the polynomial route, real ones first, each
+with its residual and multiplicity: coincident modes, at the leg lengths of a singular
 configuration, are listed once), ``real_modes`` (distinct real poses) and,
 with ``--framework``, the modes found by the closedchain mechanism route (a
 search from random starts that stops once it has found as many as the
@@ -157,7 +164,8 @@ def _invariants(design, rtol):
     """The JSON-ready invariants of a design, its family decided with `rtol`."""
     import numpy as np
 
-    from ..line_plane import b_infinity, b_line, b_point, cofactors, family, lambda_plus
+    from ..line_plane import b_infinity, b_point, cofactors, family, lambda_plus
+    from ..line_plane_pencil import oriented_b_line
 
     kind = family(design, rtol)
     values = cofactors(design)
@@ -167,9 +175,8 @@ def _invariants(design, rtol):
     plus = lambda_plus(design, rtol)
     undefined = kind.name == "architecturally singular"
     lines = None if undefined else []
-    for row in () if undefined else b_line(design, design.platform):
-        norm = float(np.hypot(row[0], row[1]))
-        lines.append(None if norm <= kind.rtol * float(np.linalg.norm(row)) else (row / norm).tolist())
+    for row in () if undefined else oriented_b_line(design, design.platform, kind.rtol):
+        lines.append(None if np.isnan(row[0]) else row.tolist())
     return {
         "design": design.to_dict(),
         "family": kind.name,
