@@ -1,7 +1,13 @@
 """MuJoCo MJCF → :class:`~mechanisms.mechanism.Mechanism`, through the ``mujoco`` package (the ``mjcf`` extra).
 
-MuJoCo compiles the file's text (``mujoco.MjModel.from_xml_string``, read with
-the size limit of URDF files); its model gives
+MuJoCo compiles the file (``mujoco.MjModel.from_xml_path``, after a read with
+the size limit of URDF files), so its includes, meshes and other asset files
+are found from the file's folder, as MuJoCo finds them. When it cannot
+compile the file with its asset files (meshes, height fields, textures,
+skins: a mesh file missing), the file is compiled without them, a geom that
+names one becoming a small sphere: they do not move the bodies, joints and
+sites, and, as for a URDF, are not needed; the notes name the files and
+MuJoCo's reason. Its model gives
 the tree: bodies (``body_parentid``, ``body_pos``, ``body_quat`` at the
 reference configuration), their joints in order (``hinge`` → ``R``,
 ``slide`` → ``P``, ``ball`` → ``S``, about ``jnt_pos`` / along ``jnt_axis``
@@ -9,17 +15,24 @@ in the body frame; several joints in one body are chained through
 intermediate links ``body#1``, …; a ``free`` joint is held fixed and said so),
 the loop closures from ``<equality>``: ``connect`` (a ``3d`` closure of the
 two anchors, ``eq_data[0:3]`` on the first body and ``eq_data[3:6]`` on the
-second) and ``weld`` (a ``6d`` closure: the second body at ``relpose``,
-``eq_data[3:10]``, from the first), and the actuated joints from
+second) and ``weld`` (a ``6d`` closure, as MuJoCo's residual: the first
+body's pose times ``relpose``, ``eq_data[3:10]``, is the second body's pose
+moved to its ``anchor``, ``eq_data[0:3]``, unrotated; MuJoCo's compiler
+fills ``relpose`` from the reference configuration when the file gives none;
+with ``torquescale`` 0 the rotation is not held, and the weld is a ``3d``
+closure of those two points, said in the notes), and the actuated joints from
 ``<actuator>`` elements that drive a joint (an actuator on a tendon, site or
 body is named in the notes and not counted). Inactive equalities are
 not closures (the notes say so); a ``joint`` or ``tendon`` equality (a coupling of values, not a
-loop closure) is refused, naming it.
+loop closure) is refused, naming it. Keyframes are left out and named in the
+notes: a keyframe's ``qpos`` need not close the loops, and a mechanism's
+named configurations are displacements from its closed home.
 Assembly and building are those of :func:`mechanisms.urdf.import_tree`.
 """
 
 from __future__ import annotations
 
+import warnings
 from dataclasses import replace
 
 import numpy as np
@@ -123,26 +136,29 @@ def tree_from_mjcf(model, source="MJCF"):
         kind = int(model.eq_type[index])
         data = np.asarray(model.eq_data[index], dtype=float)
         ends = (int(model.eq_obj1id[index]), int(model.eq_obj2id[index]))
+        weld = kind == int(mujoco.mjtEq.mjEQ_WELD)
+        if weld and data[10] == 0:  # torquescale 0: MuJoCo's rotation rows are zero, the anchor is held alone
+            notes.append(f"weld {label!r} has torquescale 0 (its rotation is not held): a 3d closure, a ball")
+        closure = "6d" if weld and data[10] != 0 else "3d"
         if int(model.eq_objtype[index]) == int(objects.mjOBJ_SITE):
             loops.append((sites[ends[0]], sites[ends[1]]))
-            types.append("3d" if kind == int(mujoco.mjtEq.mjEQ_CONNECT) else "6d")
+            types.append(closure)
             continue
         first, second = (bodies[item] for item in ends)
         anchors = frame_names.made_up(f"{label}:A"), frame_names.made_up(f"{label}:B")
         if kind == int(mujoco.mjtEq.mjEQ_CONNECT):
             frames[anchors[0]] = (first, _translation(data[0:3]))
             frames[anchors[1]] = (second, _translation(data[3:6]))
-            types.append("3d")
-        elif kind == int(mujoco.mjtEq.mjEQ_WELD):
+        elif weld:  # MuJoCo holds body1's pose times relpose (data[3:10]) at body2's pose moved to its anchor
             frames[anchors[0]] = (first, _pose(data[3:6], data[6:10]))
-            frames[anchors[1]] = (second, np.eye(4))
-            types.append("6d")
+            frames[anchors[1]] = (second, _translation(data[0:3]))
         else:
             kinds = {int(mujoco.mjtEq.mjEQ_JOINT): "joint", int(mujoco.mjtEq.mjEQ_TENDON): "tendon"}
             raise MechanismError(f"{source}: equality {label!r}: a {kinds.get(kind, 'non-geometric')} equality is "
                                  f"not supported (only connect and weld, the loop closures; a coupling of joint or "
                                  f"tendon values is not one)")
         loops.append(anchors)
+        types.append(closure)
     actuated, elsewhere = [], []
     actuators = labelled(objects.mjOBJ_ACTUATOR, model.nu, "actuator")[0]
     for index in range(model.nu):
@@ -154,6 +170,10 @@ def tree_from_mjcf(model, source="MJCF"):
             elsewhere.append(actuators[index])
     if elsewhere:
         notes.append(f"actuators that drive no joint (a tendon, site or body) are not counted: {', '.join(elsewhere)}")
+    if model.nkey:
+        keys = labelled(objects.mjOBJ_KEY, model.nkey, "key")[0]
+        notes.append(f"keyframes left out (a keyframe's qpos need not close the loops, and a mechanism's named "
+                     f"configurations are displacements from its closed home): {', '.join(map(repr, keys))}")
     notes.insert(0, f"world body {bodies[0]!r} is the ground")
     tree = KinematicTree("mjcf", bodies[0], tuple(links), tuple(joints), frames, tuple(notes))
     return tree, Closures(tuple(loops), tuple(types), tuple(actuated), {})
@@ -170,7 +190,7 @@ def read_mjcf(path):
     from ._text import _path, read_text_file
 
     path = _path(path)
-    text = read_text_file(path, limit=URDF_SIZE_LIMIT)
+    read_text_file(path, limit=URDF_SIZE_LIMIT)  # its errors (no such file, too large, not text), one line
     try:
         import mujoco
     except ImportError:
@@ -179,17 +199,72 @@ def read_mjcf(path):
     warned = []  # MuJoCo prints its warnings on stdout: kept here, for the notes (a NaN… is refused below)
     mujoco.set_mju_user_warning(lambda message: warned.append(" ".join(str(message).split())))
     try:
-        model = mujoco.MjModel.from_xml_string(text)
-    except Exception as error:  # MuJoCo's compiler errors (ValueError...), one line
-        reason = " ".join(str(error).split()) or type(error).__name__
-        raise MechanismError(f"{path}: MJCF: cannot compile: {reason}"[:400]) from None
+        with warnings.catch_warnings(record=True) as caught:  # MjSpec.compile warns in Python, not through it
+            warnings.simplefilter("always")
+            model, stripped = _compile(mujoco, path)
     finally:
         mujoco.set_mju_user_warning(previous)
+    warned.extend(" ".join(str(item.message).split()) for item in caught)
     _check_finite(model, path)
     tree, closures = tree_from_mjcf(model, str(path))
     imported = import_tree(tree, closures, mechanism_name(path), str(path),
                            description=f"imported from the MJCF {path.name}")
-    return replace(imported, notes=imported.notes + tuple(f"MuJoCo warned: {message}" for message in warned))
+    notes = tuple(f"MuJoCo warned: {message}" for message in warned) + stripped
+    return replace(imported, notes=imported.notes + notes)
+
+
+def _compile(mujoco, path):
+    """(MuJoCo's model of the file at `path`, notes): its includes, meshes and other asset files are found as
+    MuJoCo finds them, from the file's folder (``MjSpec.from_file``). When MuJoCo cannot compile the file as it
+    is and it has asset files (meshes, height fields, textures, skins), it is compiled without them, as they do
+    not move the bodies, joints and sites (a missing mesh file, as for a URDF, is not needed), and the notes say
+    so; when that fails too, MuJoCo's first error is raised.
+
+    Raises
+    ------
+    MechanismError
+        One line: MuJoCo's error.
+    """
+    try:
+        return mujoco.MjModel.from_xml_path(str(path)), ()
+    except Exception as error:  # MuJoCo's compiler errors (ValueError...), one line
+        reason = " ".join(str(error).split()) or type(error).__name__
+        failure = MechanismError(f"{path}: MJCF: cannot compile: {reason}"[:400])
+    try:
+        spec = mujoco.MjSpec.from_file(str(path))
+        files = _strip_asset_files(mujoco, spec)
+        if not files:
+            raise failure
+        model = spec.compile()
+    except Exception:
+        raise failure from None
+    shown = ", ".join(repr(name) for name in files[:6]) + (f" and {len(files) - 6} more" if len(files) > 6 else "")
+    return model, (f"compiled without its meshes and other asset files ({shown}), as MuJoCo could not compile "
+                   f"it with them ({reason[:200]}); they do not move the bodies, joints and sites",)
+
+
+def _strip_asset_files(mujoco, spec):
+    """Remove from `spec` the assets read from files (meshes, height fields, textures, skins), a geom that names
+    one becoming a small sphere (its body keeps a mass); return the files' names."""
+    files = []
+    for kind in ("meshes", "hfields", "textures", "skins"):
+        for asset in list(getattr(spec, kind)):
+            name = getattr(asset, "file", "")
+            cubes = [item for item in getattr(asset, "cubefiles", ()) if item]
+            if name or cubes:
+                files.extend([name] if name else cubes)
+                spec.delete(asset)
+    if not files:
+        return files
+    shaped = {int(mujoco.mjtGeom.mjGEOM_MESH), int(mujoco.mjtGeom.mjGEOM_HFIELD), int(mujoco.mjtGeom.mjGEOM_SDF)}
+    for geom in spec.geoms:
+        if int(geom.type) in shaped or geom.meshname or geom.hfieldname:
+            geom.type, geom.meshname, geom.hfieldname = mujoco.mjtGeom.mjGEOM_SPHERE, "", ""
+            geom.size = [0.01, 0.0, 0.0]
+        geom.material = ""
+    for material in spec.materials:
+        material.textures = [""] * len(material.textures)
+    return files
 
 
 #: the compiled model's arrays the import reads: (object type, what they hold, columns of positions or None)

@@ -53,6 +53,7 @@ too (:mod:`mechanisms.mjcf`).
 from __future__ import annotations
 
 import io
+import warnings
 from collections import deque
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -271,8 +272,12 @@ def _parse_urdf(text, source):
     if reason is not None:
         raise MechanismError(f"{source}: URDF: cannot parse: {reason}"[:400])
     try:
-        model = yourdfpy.URDF.load(io.BytesIO(text.encode("utf-8")), build_scene_graph=False, load_meshes=False,
-                                   build_collision_scene_graph=False, load_collision_meshes=False)
+        # an infinite rpy (refused later, naming the joint; in a visual, never read) made trimesh's euler_matrix
+        # print numpy's RuntimeWarnings: the parser's warnings are not the user's
+        with warnings.catch_warnings(), np.errstate(all="ignore"):
+            warnings.simplefilter("ignore")
+            model = yourdfpy.URDF.load(io.BytesIO(text.encode("utf-8")), build_scene_graph=False, load_meshes=False,
+                                       build_collision_scene_graph=False, load_collision_meshes=False)
     except Exception as error:  # the parser's own errors (lxml, ValueError, KeyError...), wrapped in one line
         reason = " ".join(str(error).split()) or type(error).__name__
         raise MechanismError(f"{source}: URDF: cannot parse: {reason}"[:400]) from None

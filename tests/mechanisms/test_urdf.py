@@ -111,6 +111,38 @@ def pinocchio_configuration(pin, model, values):
     return q
 
 
+def pinocchio_constraint_jacobian(pin, model, q, loops, types):
+    """Pinocchio's constraint Jacobian at `q` of the closures (`loops`, `types`), as the collection's loader builds
+    them: a RigidConstraintModel per loop (CONTACT_6D or CONTACT_3D, LOCAL), between the two frames' joints. The
+    constraint data are placed at `q` (``RigidConstraintModel.calc``) before the Jacobian is taken: fresh data
+    hold no contact placements, and getConstraintsJacobian took every 3d contact at the world origin.
+
+    Returns
+    -------
+    jacobian : ndarray
+    data : pinocchio.Data
+        Forward kinematics, frames and joint Jacobians at `q`.
+    """
+    constraints = []
+    for (first, second), kind in zip(loops, types):
+        frame_a, frame_b = model.frames[model.getFrameId(first)], model.frames[model.getFrameId(second)]
+        contact = pin.ContactType.CONTACT_6D if kind == "6d" else pin.ContactType.CONTACT_3D
+        constraints.append(pin.RigidConstraintModel(contact, model, frame_a.parentJoint, frame_a.placement,
+                                                    frame_b.parentJoint, frame_b.placement, pin.ReferenceFrame.LOCAL))
+    data = model.createData()
+    pin.framesForwardKinematics(model, data, q)
+    pin.computeJointJacobians(model, data, q)
+    constraint_data = [constraint.createData() for constraint in constraints]
+    for constraint, placed in zip(constraints, constraint_data):
+        constraint.calc(model, data, placed)  # the contact placements oMc1, oMc2 at q (fresh data has none)
+    return pin.getConstraintsJacobian(model, data, constraints, constraint_data), data
+
+
+def pinocchio_rank(jacobian):
+    values = np.linalg.svd(jacobian, compute_uv=False)
+    return int(np.sum(values > 1e-8 * values[0]))
+
+
 @pytest.mark.parametrize("name", list(EXPECTED))
 def test_pinocchio_constraint_jacobian_rank_agrees(name, imported):
     """Pinocchio's RigidConstraintModel (6D/3D contacts, as the collection's loader builds them) at the imported
@@ -122,26 +154,53 @@ def test_pinocchio_constraint_jacobian_rank_agrees(name, imported):
     item = imported[name]
     model = pinocchio_model(pin, urdf, closures)
     q = pinocchio_configuration(pin, model, item.values)
-    constraints = []
-    for (first, second), kind in zip(closures.loops, closures.types):
-        frame_a, frame_b = model.frames[model.getFrameId(first)], model.frames[model.getFrameId(second)]
-        contact = pin.ContactType.CONTACT_6D if kind == "6d" else pin.ContactType.CONTACT_3D
-        constraints.append(pin.RigidConstraintModel(contact, model, frame_a.parentJoint, frame_a.placement,
-                                                    frame_b.parentJoint, frame_b.placement, pin.ReferenceFrame.LOCAL))
-    data = model.createData()
-    pin.framesForwardKinematics(model, data, q)
-    pin.computeJointJacobians(model, data, q)
+    jacobian, data = pinocchio_constraint_jacobian(pin, model, q, closures.loops, closures.types)
     for (first, second), kind in zip(closures.loops, closures.types):
         gap = data.oMf[model.getFrameId(first)].inverse() * data.oMf[model.getFrameId(second)]
         error = pin.log6(gap).vector if kind == "6d" else gap.translation
         assert np.linalg.norm(error) < 1e-9
-    jacobian = pin.getConstraintsJacobian(model, data, constraints, [item.createData() for item in constraints])
-    values = np.linalg.svd(jacobian, compute_uv=False)
-    rank = int(np.sum(values > 1e-8 * values[0]))
+    rank = pinocchio_rank(jacobian)
     dimension, expected_rank, _, _ = EXPECTED[name]
     balls = 3 * closures.types.count("3d")
     assert rank == expected_rank - balls
     assert model.nv - rank == dimension
+
+
+def test_pinocchio_rank_with_two_3d_closures_between_the_same_links(tmp_path):
+    """The iso3d five-bar with a second 3d closure between the same two links, 0.03 apart along the ball's z:
+    together a hinge, so one freedom is left (closedchain's dof 1). The recipe called getConstraintsJacobian on
+    fresh constraint data, whose contact placements were never set: both contacts were taken at the world
+    origin, rank 3 instead of 4."""
+    from xml.etree import ElementTree
+
+    pin = pytest.importorskip("pinocchio")
+    urdf, closures_file = robot_files("5bar_linkage_iso3d")
+    closures = read_closures(closures_file)
+    first, second = closures.loops[0]
+    item = read_urdf(urdf, closures)
+    model = pin.buildModelFromUrdf(str(urdf))
+    data = model.createData()
+    pin.framesForwardKinematics(model, data, pinocchio_configuration(pin, model, item.values))
+    pose_a, pose_b = (data.oMf[model.getFrameId(name)] for name in (first, second))
+    offset = np.array([0.0, 0.0, 0.03])
+    robot = ElementTree.parse(urdf).getroot()
+    for name, parent, point in (("A2", first, offset),
+                                ("B2", second, pose_b.actInv(pose_a.act(offset)))):
+        ElementTree.SubElement(robot, "link", name=name)
+        joint = ElementTree.SubElement(robot, "joint", name=name + "_joint", type="fixed")
+        ElementTree.SubElement(joint, "parent", link=parent)
+        ElementTree.SubElement(joint, "child", link=name)
+        ElementTree.SubElement(joint, "origin", xyz=" ".join(repr(float(value)) for value in point), rpy="0 0 0")
+    variant = tmp_path / "robot.urdf"
+    ElementTree.ElementTree(robot).write(variant)
+    loops, types = ((first, second), ("A2", "B2")), ("3d", "3d")
+    twice = read_urdf(variant, Closures(loops, types, closures.actuated))
+    report = classify(twice.mechanism, home(twice.mechanism), rng=np.random.default_rng(0))
+    assert report.dof == 1
+    model = pin.buildModelFromUrdf(str(variant))
+    q = pinocchio_configuration(pin, model, twice.values)
+    jacobian, _ = pinocchio_constraint_jacobian(pin, model, q, loops, types)
+    assert model.nv - pinocchio_rank(jacobian) == report.dof == 1
 
 
 # ------------------------------------------------------------------------------------------- bad input
