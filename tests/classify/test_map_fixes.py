@@ -13,8 +13,7 @@ import json
 import numpy as np
 import pytest
 
-from classify import cli
-from classify.cli import main, map_command
+from classify.cli import main
 from classify.cli._outputs import csv_text
 from classify.grid_continuation import _wrapped, grid_neighbours
 
@@ -26,17 +25,10 @@ TURN_REVERSED = "crank=2.8415926535897932:-3.4415926535897932:25"
 
 
 def run(argv):
-    """(status, stdout, stderr) of ``closedchain ARGV``, with ``map`` registered if the command list lacks it."""
-    registered = "map" in cli.COMMANDS
-    if not registered:
-        cli.COMMANDS["map"] = map_command
+    """(status, stdout, stderr) of ``closedchain ARGV``."""
     out, err = io.StringIO(), io.StringIO()
-    try:
-        with contextlib.redirect_stderr(err):
-            status = main(argv, out=out)
-    finally:
-        if not registered:
-            del cli.COMMANDS["map"]
+    with contextlib.redirect_stderr(err):
+        status = main(argv, out=out)
     return status, out.getvalue(), err.getvalue()
 
 
