@@ -154,6 +154,7 @@ class Mechanism:
             if joint.name in seen:
                 raise MechanismError(f"joint {joint.name!r}: field 'name': duplicate joint name")
             seen.add(joint.name)
+        _check_coordinate_names(joints)
         graph = nx.MultiGraph()
         for joint in joints:
             graph.add_edge(*joint.links, key=joint.name, joint=joint)
@@ -368,6 +369,22 @@ def _known_links(graph, ground, excluded):
 
 def _joint_of(joints, link):
     return next(joint.name for joint in joints if link in joint.links)
+
+
+def _check_coordinate_names(joints):
+    """Refuse two coordinates of one name (:attr:`Mechanism.coordinate_names`): a joint named like a coordinate of
+    another joint (an R joint ``U1[1]`` beside the U joint ``U1``), whose values text, CSV and ``--grid`` could not
+    tell apart."""
+    owners = {}
+    for joint in joints:
+        for coordinate in joint_coordinate_names(joint):
+            owner = owners.setdefault(coordinate, joint)
+            if owner is joint:
+                continue
+            named, other = (joint, owner) if coordinate == joint.name else (owner, joint)
+            raise MechanismError(f"joint {named.name!r}: field 'name': {coordinate!r} is also the name of a "
+                                 f"coordinate of joint {other.name!r} (coordinates are named after their joint: "
+                                 f"rename one of the joints)")
 
 
 def _check_dangling_links(joints, graph, ground, end_effector):

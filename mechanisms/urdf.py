@@ -53,6 +53,7 @@ too (:mod:`mechanisms.mjcf`).
 from __future__ import annotations
 
 import io
+import os
 import warnings
 from collections import deque
 from dataclasses import dataclass, field
@@ -360,14 +361,30 @@ def _vector_fault(text):
 
 
 def looks_like_urdf(path):
-    """Whether an XML file's root element is ``<robot>`` (a URDF saved as ``.xml``), from its first 64 KiB."""
+    """Whether an XML file's root element is ``<robot>`` (a URDF saved as ``.xml``), from its first 64 KiB.
+
+    The file is opened without blocking and read only when it is a regular file: False for a FIFO, a device or a
+    folder (which the reader then refuses, :func:`mechanisms.io.read_text_file`), and for a path that cannot be
+    opened.
+    """
     import re
+    import stat
 
     try:
-        with open(path, "rb") as stream:
+        descriptor = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0))
+    except (OSError, ValueError):
+        return False
+    try:
+        if not stat.S_ISREG(os.fstat(descriptor).st_mode):
+            return False
+        with os.fdopen(descriptor, "rb") as stream:
+            descriptor = None
             head = stream.read(65536).decode("utf-8", errors="replace")
     except OSError:
         return False
+    finally:
+        if descriptor is not None:
+            os.close(descriptor)
     head = re.sub(r"<!--.*?-->|<\?.*?\?>", "", head, flags=re.DOTALL)
     match = re.search(r"<\s*([A-Za-z_][\w.:-]*)", head)
     return match is not None and match.group(1) == "robot"

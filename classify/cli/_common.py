@@ -18,6 +18,7 @@ __all__ = [
     "check_length_scale", "check_count", "check_path_step", "integer", "number", "is_entry", "path_exists",
     "entry_values", "threads_option", "warn_if_serial",
     "source", "joint_list", "finite", "dumps", "write_output", "IMPORT_SUFFIXES", "closures_option", "import_file",
+    "check_output", "same_file", "input_files",
 ]
 
 MECHANISM_SUFFIXES = (".yaml", ".yml", ".json")
@@ -76,6 +77,7 @@ def import_file(path, closures=None):
     """
     from mechanisms.urdf import looks_like_urdf, read_urdf
 
+    _check_regular(path)
     if Path(path).suffix.lower() == ".urdf" or looks_like_urdf(path):
         return read_urdf(path, closures)
     if closures is not None:
@@ -84,6 +86,23 @@ def import_file(path, closures=None):
     from mechanisms.mjcf import read_mjcf
 
     return read_mjcf(path)
+
+
+def _check_regular(path):
+    """Refuse at once a path that is not a regular file (a FIFO would block its reader), with the readers' own
+    words (:func:`mechanisms.io.read_text_file`); a path that cannot be looked at is left to the reader."""
+    import os
+    import stat
+
+    from mechanisms._text import _file_kind
+
+    try:
+        mode = os.stat(path).st_mode
+    except (OSError, ValueError):
+        return
+    if not stat.S_ISREG(mode):
+        raise MechanismError(f"{printable(str(path))}: cannot read the file: it is {_file_kind(mode)}, not a "
+                             f"regular file")
 
 
 def integer(text):
@@ -351,6 +370,92 @@ def joint_list(text, where):
     if not all(names):
         raise InputError(f"{where}: expected comma-separated joint names, got {text!r}")
     return names
+
+
+def same_file(path, other):
+    """Whether two paths name one file: the same resolved path (whether or not it exists yet), or one existing
+    file through a symbolic or a hard link (:func:`os.path.samefile`); False for a name no file can have (too
+    long, a NUL byte).
+
+    Parameters
+    ----------
+    path, other : str or os.PathLike
+
+    Returns
+    -------
+    bool
+    """
+    import os
+
+    try:
+        if Path(path).resolve() == Path(other).resolve():
+            return True
+        return os.path.samefile(path, other)
+    except (OSError, ValueError, RuntimeError):  # RuntimeError: a loop of symbolic links (Python < 3.13)
+        return False
+
+
+def input_files(arguments):
+    """``(what, path)`` of the files a command reads (and its ``--survey`` cache, which it may write): FILE
+    (not a catalogue entry), ``--closures``, ``--at @FILE``, ``--batch`` and ``--survey``, those it has and
+    was given; for :func:`check_output`."""
+    files = []
+    file = getattr(arguments, "file", None)
+    if file and not is_entry(file):
+        files.append(("the input file", file))
+    at = getattr(arguments, "at", None)
+    for what, path in (("the --closures file", getattr(arguments, "closures", None)),
+                       ("the --at file", at[1:] if at and at.startswith("@") else None),
+                       ("the --batch file", getattr(arguments, "batch", None)),
+                       ("the --survey cache", getattr(arguments, "survey", None))):
+        if path:
+            files.append((what, path))
+    return files
+
+
+def check_output(path, option, inputs=()):
+    """Refuse, before any work, an output file the command could not write or that would overwrite an input.
+
+    Parameters
+    ----------
+    path : str or None
+        The output file (None: not asked for, nothing checked).
+    option : str
+        The option that named it (``--out``, ``--output``), for the message.
+    inputs : iterable of (str, str or None)
+        ``(what, path)`` of every file the command reads or writes besides (``("the --batch file", "b.json")``);
+        a None path is skipped.
+
+    Raises
+    ------
+    InputError
+        One line naming `option`: an empty path, a folder, a missing folder, a folder this process cannot
+        write in, or ``{path} is {what}: it would be overwritten (write elsewhere)``.
+    """
+    import os
+
+    if path is None:
+        return
+    if not path:
+        raise InputError(f"{option}: an empty path")
+    shown = printable(str(path))
+    for what, other in inputs:
+        if other is not None and other != "" and same_file(path, other):
+            raise InputError(f"{option}: {shown} is {what}: it would be overwritten (write elsewhere)")
+    target = Path(path)
+    try:
+        if target.is_dir():
+            raise InputError(f"{option}: {shown}: cannot write the file: it is a folder")
+        folder = target.parent
+        if not folder.is_dir():
+            raise InputError(f"{option}: {shown}: cannot write the file: no folder {printable(str(folder))}")
+        if target.exists() and not os.access(target, os.W_OK):
+            raise InputError(f"{option}: {shown}: cannot write the file: Permission denied")
+        if not target.exists() and not os.access(folder, os.W_OK | os.X_OK):
+            raise InputError(f"{option}: {shown}: cannot write the file: the folder {printable(str(folder))} is "
+                             f"not writable")
+    except (OSError, ValueError):  # a name no file can have: said when the file is written
+        return
 
 
 def write_output(path, text, option):

@@ -24,8 +24,9 @@ from __future__ import annotations
 from ..progress import show_progress
 from ..text import printable
 from ._common import (
-    InputError, check_length_scale, closures_option, common_options, displacements, dumps, entry_options,
-    entry_values, integer, is_entry, source, survey_option, threads_option, warn_if_serial,
+    InputError, check_length_scale, check_output, closures_option, common_options, displacements, dumps,
+    entry_options, entry_values, input_files, integer, is_entry, source, survey_option, threads_option,
+    warn_if_serial,
 )
 
 __all__ = ["add_parser", "run", "describe_source"]
@@ -222,6 +223,7 @@ def _run_batch(arguments, out):
 
     _check_batch_options(arguments)
     file_format = outputs.output_format(arguments.out) if arguments.out is not None else None
+    check_output(arguments.out, "--out", input_files(arguments))  # before the survey cache is written
     mechanism, named = source(arguments)
     points, distance = _batch_points(arguments, mechanism, named)
     warn_if_serial(mechanism)

@@ -52,8 +52,8 @@ from __future__ import annotations
 
 import math
 
-from ._common import (InputError, check_length_scale, displacements, dumps, entry_options, file_after_grid,
-                      is_entry, source, write_output)
+from ._common import (InputError, check_length_scale, check_output, displacements, dumps, entry_options,
+                      file_after_grid, input_files, is_entry, source, write_output)
 
 __all__ = ["add_parser", "run"]
 
@@ -173,6 +173,7 @@ def run(arguments, out):
     from mechanisms import configuration
 
     file_after_grid(arguments)
+    check_output(arguments.out, "--out", input_files(arguments))
     length = _length_option(arguments.length)
     mechanism, named = source(arguments)
     check_length_scale(length, mechanism, "--length")

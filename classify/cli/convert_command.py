@@ -29,7 +29,7 @@ from pathlib import Path
 
 from ..text import printable
 from ._common import InputError, MECHANISM_SUFFIXES, closures_option, dumps, entry_options, entry_values, is_entry, \
-    source
+    source, warn_if_serial
 
 __all__ = ["add_parser", "run"]
 
@@ -77,6 +77,7 @@ def run(arguments, out):
         if any(_same_file(path, other) for other in source_files):
             raise InputError(f"--write: {printable(str(path))} is an input of this conversion: it would be "
                              f"overwritten (write elsewhere)")
+    warn_if_serial(mechanism)  # a URDF with an empty closures file, as `classify` warns of it
     if suffix == ".urdf":
         from mechanisms.export import write_urdf
 

@@ -17,12 +17,15 @@ ones on 3-D axes. Prints one line, the file written and the kinds found
 from __future__ import annotations
 
 from ..text import drawn, printable
-from ._common import InputError, closures_option, common_options, displacements, dumps, entry_options, source
+from ._common import (InputError, check_output, closures_option, common_options, displacements, dumps, entry_options,
+                      input_files, source)
 
-__all__ = ["add_parser", "run", "FIGURE_SUFFIXES", "KIND_NAMES"]
+__all__ = ["add_parser", "run", "FIGURE_SUFFIXES", "KIND_NAMES", "TITLE_LIMIT"]
 
 #: the file types a figure may be written as
 FIGURE_SUFFIXES = (".png", ".svg", ".pdf")
+#: longest --title, in characters (a title of 10⁵ characters took a minute and gigabytes to typeset)
+TITLE_LIMIT = 200
 #: --kinds names → the kinds of :data:`classify.KINDS`
 KIND_NAMES = {"actuator": "actuator", "end_effector": "end_effector", "end-effector": "end_effector",
               "cspace": "cspace", "c-space": "cspace"}
@@ -84,12 +87,14 @@ def write_figure(figure, path, option="--out"):
 
 
 def check_title(text):
-    """Refuse a ``--title`` matplotlib cannot draw: control characters other than newline (a glyph it lacks, a
-    tab included), or mathtext (between dollar signs) it cannot parse, checked on an empty figure before any
-    work."""
+    """Refuse a ``--title`` matplotlib cannot draw: longer than :data:`TITLE_LIMIT` characters, control
+    characters other than newline (a glyph it lacks, a tab included), or mathtext (between dollar signs) it cannot
+    parse, checked on an empty figure before any work."""
     import unicodedata
     import warnings
 
+    if len(text) > TITLE_LIMIT:
+        raise InputError(f"--title: at most {TITLE_LIMIT} characters, got {len(text)}")
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from matplotlib.figure import Figure
 
@@ -117,6 +122,7 @@ def run(arguments, out):
     from ..figures.drawing import draw_mechanism
 
     path = figure_path(arguments.out)
+    check_output(path, "--out", input_files(arguments))
     kinds = parse_kinds(arguments.kinds)
     if arguments.title is not None:
         check_title(arguments.title)

@@ -52,7 +52,8 @@ the text or JSON is printed as well.
 from __future__ import annotations
 
 from ..text import drawn, printable
-from ._common import InputError, common_options, entry_options, file_after_grid, integer, source
+from ._common import (InputError, check_output, common_options, entry_options, file_after_grid, input_files, integer,
+                      source)
 
 __all__ = ["add_parser", "run", "DEFAULT_COUNT"]
 
@@ -238,6 +239,7 @@ def run(arguments, out):
     file_after_grid(arguments)
     if arguments.out is not None:
         figure_path(arguments.out)
+        check_output(arguments.out, "--out", input_files(arguments))
     kinds = parse_kinds(arguments.kinds)
     if arguments.branches < 1:
         raise InputError(f"--branches: at least 1, got {arguments.branches}")

@@ -67,8 +67,8 @@ from __future__ import annotations
 
 from ..progress import progress_bar, show_progress
 from ..text import printable
-from ._common import (InputError, check_length_scale, closures_option, common_options, entry_options,
-                      file_after_grid, source, survey_option, threads_option, warn_if_serial)
+from ._common import (InputError, check_length_scale, check_output, closures_option, common_options, entry_options,
+                      file_after_grid, input_files, source, survey_option, threads_option, warn_if_serial)
 
 __all__ = ["add_parser", "run", "PICTURE"]
 
@@ -247,6 +247,7 @@ def run(arguments, out):
     file_format = outputs.output_format(arguments.out) if arguments.out is not None else None
     if file_format is not None and arguments.format is not None:
         raise InputError("--format: applies to what is printed; with --out the file's suffix gives the format")
+    check_output(arguments.out, "--out", input_files(arguments))  # before the survey cache is written
     mechanism, named = source(arguments)
     warn_if_serial(mechanism)
     grid = parse_grid(arguments.grid, mechanism)

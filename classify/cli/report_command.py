@@ -25,12 +25,17 @@ from mechanisms import catalogue
 
 from ..text import printable
 from ._common import (
-    IMPORT_SUFFIXES, MECHANISM_SUFFIXES, InputError, check_length_scale, closures_option, common_options, dumps,
-    import_file, integer, is_entry, path_exists, write_output,
+    IMPORT_SUFFIXES, MECHANISM_SUFFIXES, InputError, check_length_scale, check_output, closures_option,
+    common_options, dumps, import_file, integer, is_entry, path_exists, write_output,
 )
 
 __all__ = ["add_parser", "run", "run_tasks", "report_table", "table_cells", "report_summary", "ReportRow",
-           "JOINT_OUTPUTS", "CONFIGURATION_PARAMETERS", "LEGEND", "legend"]
+           "JOINT_OUTPUTS", "CONFIGURATION_PARAMETERS", "LEGEND", "legend", "OUTPUT_SUFFIXES", "HTML_SUFFIXES"]
+
+#: the suffixes of --output (text, Markdown-friendly text or JSON, as --format says; "": none)
+OUTPUT_SUFFIXES = ("", ".txt", ".text", ".md", ".log", ".json")
+#: the suffixes of --html
+HTML_SUFFIXES = (".html", ".htm")
 
 #: catalogue entry → the joints whose coordinates are the Gosselin–Angeles outputs, where the paper compares with a
 #: joint output rather than the end-effector (whose dimension differs from the number of inputs): the first joint
@@ -608,7 +613,16 @@ def run(arguments, out):
     if arguments.output and arguments.html and Path(arguments.output).resolve() == Path(arguments.html).resolve():
         raise InputError(f"--output, --html: one file for both ({printable(arguments.output)}): the page would "
                          "overwrite the text")
+    for option, path, suffixes in (("--output", arguments.output, OUTPUT_SUFFIXES),
+                                   ("--html", arguments.html, HTML_SUFFIXES)):
+        if path and Path(path).suffix.lower() not in suffixes:
+            shown = ", ".join(suffix for suffix in suffixes if suffix) + (" or none" if "" in suffixes else "")
+            raise InputError(f"{option}: {printable(path)}: expected a file name ending in {shown}")
     tasks, order = _tasks(arguments)
+    inputs = [(f"the input file {printable(task.source)}", task.source) for task in tasks if task.is_file]
+    inputs += [(f"the closures file {printable(task.closures)}", task.closures) for task in tasks if task.closures]
+    for option, path in (("--output", arguments.output), ("--html", arguments.html)):
+        check_output(path, option, inputs)  # a file named, or one found under a folder named
     position = {key: index for index, key in enumerate(order)}
     rows = sorted(run_tasks(tasks, arguments.seed, arguments.length_scale, arguments.jobs),
                   key=lambda row: position[row.source, row.name])

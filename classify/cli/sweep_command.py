@@ -36,6 +36,9 @@ OUTPUT_SUFFIXES = (".csv", ".json", ".parquet")
 SERIAL = "serial"
 #: most designs the text summary lists one per line (every row goes to --out or --format json)
 TABLE_LIMIT = 200
+#: designs built, in order, before the sweep starts, until one builds: a sweep none of whose designs can be built
+#: is refused before any cluster starts (a larger grid whose first designs all fail is left to the sweep's rows)
+BUILD_CHECKS = 1000
 
 
 def add_parser(commands):
@@ -115,6 +118,36 @@ def _pyarrow():
         raise InputError("--out: writing .parquet needs pyarrow: pip install pyarrow (or "
                          "pip install 'closedchain[parquet]'), or write .csv or .json") from None
     return pyarrow, pyarrow.parquet
+
+
+def _check_buildable(entry, grid):
+    """Refuse a sweep none of whose designs can be built, before it starts (no cluster, no "sweeping" line).
+
+    The designs are built in order (:meth:`mechanisms.catalogue.Entry.assemble`, as
+    :func:`classify.sweep.sweep_design` builds them) until one builds, at most :data:`BUILD_CHECKS` of them.
+
+    Raises
+    ------
+    InputError
+        ``--param: no design of the sweep can be built (design 0: …)``, with a hint for a parameter that is not
+        a number given as ``a:b:n`` (fixed at that text, not swept).
+    """
+    import numpy as np
+
+    first = None
+    for index in range(min(len(grid), BUILD_CHECKS)):
+        try:
+            entry.assemble(entry.values(**grid.parameters(index)))
+            return
+        except (ValueError, ArithmeticError, np.linalg.LinAlgError) as error:  # MechanismError included
+            first = error if first is None else first
+    if first is None or len(grid) > BUILD_CHECKS:
+        return
+    text = " ".join((str(first).strip() or type(first).__name__).split())
+    text = text if "cannot be built" in text else f"cannot be built: {text}"
+    hints = [f"; {name}={value} is not swept: a:b:n sweeps number parameters only" for name, value in grid.fixed
+             if isinstance(value, str) and len(value.split(":")) == 3]
+    raise InputError(f"--param: no design of the sweep can be built (design 0: {text}){''.join(hints[:1])}")
 
 
 # ----------------------------------------------------------------------------- where the chunks run
@@ -409,6 +442,7 @@ def run(arguments, out):
         grid = design_grid(entry, arguments.param)
     except MechanismError as error:
         raise InputError(str(error)) from None
+    _check_buildable(entry, grid)
     with _client(arguments) as (client, where):
         print(f"sweeping {len(grid)} design{'s' if len(grid) != 1 else ''} of {printable(entry.name)} "
               f"({arguments.samples} configurations each) {where}", file=sys.stderr)
