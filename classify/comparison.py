@@ -27,13 +27,13 @@ from manifold import DEFAULT_RTOL, local_rank, numerical_rank, sample_manifold, 
 from mechanisms import Mechanism
 
 from .classification import classify
-from .gosselin_angeles import GA_KINDS, derived_gosselin_angeles, gosselin_angeles
+from .gosselin_angeles import GA_KINDS, derived_gosselin_angeles, gosselin_angeles, variable_scales
 from .model import model_of
 from .report import format_values, printable, source_lines
 from .survey import decision_blocks, survey as survey_model
 
 __all__ = ["REASONS", "expected_kinds", "correspondence", "ComparisonRow", "Comparison", "comparison_row", "compare",
-           "sample_configurations", "relation_variables_mismatch", "relation_variable_scales"]
+           "sample_configurations", "relation_variables_mismatch"]
 
 #: the closed list of reasons for a disagreement (or an undefined G–A classification)
 REASONS = {
@@ -64,11 +64,6 @@ CONSISTENCY_TOLERANCE = 1e-4
 #: a relation's variable θ stands still where ‖Dθ T‖ ≤ STILL · max(1, ‖θ‖): central differences of step 1e-6
 #: round to about 1e-10 ‖θ‖ (:func:`relation_variables_mismatch`)
 STILL = 1e-8
-#: the step of the differences that size a relation's variables, in the ambient's dimensionless coordinates
-#: (radians, characteristic lengths; :func:`relation_variable_scales`)
-SCALE_STEP = 1e-4
-#: how many random directions of the ambient add second derivatives to those scales
-SCALE_DIRECTIONS = 8
 
 
 def expected_kinds(report):
@@ -297,74 +292,12 @@ def _relation_velocities(model, point, basis, coordinates, step=1e-6):
     return np.array(columns).T
 
 
-def _flat(values):
-    return np.concatenate([np.ravel(np.asarray(value, dtype=float)) for value in values])
-
-
-def relation_variable_scales(model, point, coordinates, step=SCALE_STEP):
-    """The scale of each of a given relation's variables (θ then x), in its own unit, at `point`.
-
-    Gosselin & Angeles's ``[B A]`` (eq. 3) has entries ``∂Fᵢ/∂vⱼ`` in the unit
-    of Fᵢ over that of vⱼ; :func:`classify.gosselin_angeles.kinds_of_matrices`
-    multiplies column j by vⱼ's scale σⱼ so that each row has one unit. σⱼ is
-    measured on the mechanism, in the ambient's dimensionless coordinates
-    ``u = v / s`` (:mod:`manifold.implicit`: s is 1 for an angle and the
-    characteristic length for a translation): with ``vⱼ(u)`` the variable as
-    `coordinates` reads it at ``point ⊕ s·u``,
-
-        σⱼ² = Σᵢ ((∂vⱼ/∂uᵢ)² + (∂²vⱼ/∂uᵢ²)²) + Σ_d (∂²vⱼ/∂d²)²,
-
-    i over the ambient's coordinates, d over :data:`SCALE_DIRECTIONS` unit
-    directions of u drawn once (seed 0), by central differences of step
-    `step`. So σⱼ is the characteristic length for a variable that is a
-    slide's coordinate, 1 for a joint's angle, a lever arm for a position
-    carried by revolute joints. The second derivatives keep σⱼ positive
-    where every first derivative vanishes: at a dead centre (the centripetal
-    term), or where a pose's orientation turns only by moving two joints at
-    once (a spherical wrist folded, eq. 70). A change of the unit of length
-    multiplies u's translations and s alike, hence σⱼ by the factor for a
-    length and not at all for an angle; a change of vⱼ's own unit (degrees)
-    multiplies σⱼ by it: either way ``∂Fᵢ/∂vⱼ · σⱼ`` does not change.
-
-    An angle that `coordinates` wraps (to (−π, π]) within `step` of the point
-    is measured across its jump and gets a scale too large.
-
-    Parameters
-    ----------
-    model : Model
-    point : ndarray, shape=[point_size]
-    coordinates : callable
-        ``coordinates(point) -> (theta, x)``, evaluated at points of the ambient space near `point` (off M).
-    step : float
-
-    Returns
-    -------
-    ndarray, shape=[2n]
-        Positive; a variable that does not move with any coordinate, or is
-        not finite nearby, gets 1 (its column as given).
-    """
-    ambient = model.manifold.ambient
-    scales = ambient.tangent_scales
-    centre = _flat(coordinates(point))
-    directions = np.random.default_rng(0).normal(size=(SCALE_DIRECTIONS, ambient.dim))
-    directions /= np.linalg.norm(directions, axis=1, keepdims=True)
-    squares = np.zeros(centre.shape)
-    for index, direction in enumerate(np.concatenate([np.eye(ambient.dim), directions])):
-        move = step * direction * scales
-        plus = _flat(coordinates(ambient.retract(point, move)))
-        minus = _flat(coordinates(ambient.retract(point, -move)))
-        squares += ((plus + minus - 2 * centre) / step ** 2) ** 2
-        if index < ambient.dim:
-            squares += ((plus - minus) / (2 * step)) ** 2
-    sizes = np.sqrt(squares)
-    return np.where(np.isfinite(sizes) & (sizes > 0), sizes, 1.0)
-
-
 def _consistent(result, velocities):
     """Whether the rows of [B A] annihilate the velocities (relative to their size).
 
     Rows and velocities are taken in the variables' scales σ (columns of [B A] times σ, velocities over σ:
-    :func:`relation_variable_scales`), so that the test depends on no unit; ``[B A] v`` itself is unchanged.
+    :func:`classify.gosselin_angeles.variable_scales`), so that the test depends on no unit; ``[B A] v`` itself is
+    unchanged.
     """
     if not result.defined or result.relation_decision is None or result.relation_decision.rank < result.n:
         return True
@@ -468,8 +401,8 @@ def comparison_row(model, point, report, label="", relation=None, coordinates=No
         result = derived_gosselin_angeles(model, point, basis, rtol=rtol)
     else:
         theta, x = coordinates(point)
-        result = gosselin_angeles(relation, theta, x, rtol=rtol,
-                                  variable_scales=relation_variable_scales(model, point, coordinates))
+        length = 1.0 if model.mechanism is None else model.mechanism.characteristic_length
+        result = gosselin_angeles(relation, theta, x, rtol=rtol, variable_scales=variable_scales(relation, length))
         if "cspace" not in report.kinds:
             consistent = _consistent(result, _relation_velocities(model, point, basis, coordinates))
     agree, reason, note = correspondence(report, result, consistent)

@@ -31,12 +31,15 @@ Units. The entry ``∂Fᵢ/∂vⱼ`` of ``[B A]`` (eq. 3) carries the unit of F�
 that of the variable vⱼ (a leg length, a position, an angle), so one row
 mixes units and its normalisation would depend on the unit of length: the
 slider-crank's eq. 12 at its fold (eq. 14) was kind II in metres and regular
-in millimetres. Given each variable's scale σⱼ (same unit as vⱼ:
-:func:`classify.comparison.relation_variable_scales` measures it on the
-mechanism), the decisions are taken on ``∂Fᵢ/∂vⱼ · σⱼ``, whose row i has the
-one unit of Fᵢ; a change of the unit of length (or of any variable's unit)
-multiplies σⱼ and divides column j by the same factor, so it changes no
-decision. Without scales the columns are taken as given (the caller's units).
+in millimetres. A relation declares the kind of each variable
+(:attr:`InputOutputRelation.units`: ``"length"`` or ``"angle"``), and each
+variable's scale σⱼ is then the mechanism's characteristic length for a
+length and 1 for an angle (:func:`variable_scales`, the scales of
+:mod:`manifold.implicit`'s dimensionless coordinates); the decisions are
+taken on ``∂Fᵢ/∂vⱼ · σⱼ``, whose row i has the one unit of Fᵢ: a change of
+the unit of length multiplies σⱼ and divides column j by the same factor, so
+it changes no decision. Without scales the columns are taken as given (the
+caller's units).
 """
 
 from __future__ import annotations
@@ -54,7 +57,7 @@ from .survey import decision_blocks, stacked as stacked_rows
 
 __all__ = [
     "GA_KINDS", "InputOutputRelation", "GosselinAngeles",
-    "relation_from_sympy", "relation_from_callables",
+    "relation_from_sympy", "relation_from_callables", "variable_scales",
     "kinds_of_matrices", "gosselin_angeles", "derived_gosselin_angeles",
 ]
 
@@ -79,6 +82,9 @@ class InputOutputRelation:
         velocity relation (the paper's A and B) is known.
     reference : str
         Where the relation comes from (paper, equation).
+    units : tuple of str, optional
+        The kind of each variable, θ then x: ``"length"`` or ``"angle"`` (module doc, "Units"); None: unknown,
+        the columns of ``[B A]`` are taken in the caller's units.
     """
 
     name: str
@@ -87,11 +93,16 @@ class InputOutputRelation:
     jacobians: Callable
     residual: Optional[Callable] = None
     reference: str = ""
+    units: Optional[tuple] = None
 
     def __post_init__(self):
         if len(self.input_names) != len(self.output_names):
             raise ValueError(f"relation {self.name!r}: {len(self.input_names)} inputs but "
                              f"{len(self.output_names)} outputs; Gosselin–Angeles needs n of each")
+        if self.units is not None and (len(self.units) != 2 * self.n
+                                       or not set(self.units) <= {"length", "angle"}):
+            raise ValueError(f"relation {self.name!r}: units must be {2 * self.n} of 'length' or 'angle' (θ then "
+                             f"x), got {self.units!r}")
 
     @property
     def n(self):
@@ -126,7 +137,7 @@ def _parameter_value(symbol, value):
 
 
 def relation_from_sympy(inputs, outputs, equations=None, input_jacobian=None, output_jacobian=None,
-                        parameters=None, name="F", reference=""):
+                        parameters=None, name="F", reference="", units=None):
     """A relation from SymPy expressions: F itself, or the paper's A and B directly.
 
     Give either `equations` (F; A and B are its symbolic derivatives, eq. 3)
@@ -146,6 +157,8 @@ def relation_from_sympy(inputs, outputs, equations=None, input_jacobian=None, ou
     parameters : dict, optional
         ``{symbol: value}`` substituted before evaluation (link lengths, branch signs).
     name, reference : str
+    units : sequence of str, optional
+        ``"length"`` or ``"angle"`` per variable, θ then x (:attr:`InputOutputRelation.units`).
 
     Returns
     -------
@@ -206,11 +219,12 @@ def relation_from_sympy(inputs, outputs, equations=None, input_jacobian=None, ou
         return evaluate_f(list(theta), list(x)).reshape(-1)
 
     return InputOutputRelation(name, tuple(map(str, inputs)), tuple(map(str, outputs)), jacobians,
-                               None if residual is None else residual_function, reference)
+                               None if residual is None else residual_function, reference,
+                               None if units is None else tuple(units))
 
 
 def relation_from_callables(input_names, output_names, input_jacobian, output_jacobian, residual=None,
-                            name="F", reference=""):
+                            name="F", reference="", units=None):
     """A relation from Python callables: ``B(θ, x)``, ``A(θ, x)`` and optionally ``F(θ, x)``.
 
     Parameters
@@ -221,6 +235,8 @@ def relation_from_callables(input_names, output_names, input_jacobian, output_ja
     residual : callable, optional
         ``(theta, x) -> array, shape=[n]``.
     name, reference : str
+    units : sequence of str, optional
+        ``"length"`` or ``"angle"`` per variable, θ then x (:attr:`InputOutputRelation.units`).
 
     Returns
     -------
@@ -230,7 +246,26 @@ def relation_from_callables(input_names, output_names, input_jacobian, output_ja
         return (np.asarray(input_jacobian(theta, x), dtype=float),
                 np.asarray(output_jacobian(theta, x), dtype=float))
     return InputOutputRelation(name, tuple(input_names), tuple(output_names), jacobians,
-                               residual, reference)
+                               residual, reference, None if units is None else tuple(units))
+
+
+def variable_scales(relation, length):
+    """The scale σ of each of the relation's variables, θ then x: `length` for a length, 1 for an angle.
+
+    Parameters
+    ----------
+    relation : InputOutputRelation
+    length : float
+        The mechanism's characteristic length (:attr:`mechanisms.Mechanism.characteristic_length`).
+
+    Returns
+    -------
+    ndarray, shape=[2n], or None
+        None where the relation declares no units.
+    """
+    if relation.units is None:
+        return None
+    return np.array([float(length) if unit == "length" else 1.0 for unit in relation.units])
 
 
 @dataclass(frozen=True, eq=False)
@@ -488,8 +523,8 @@ def gosselin_angeles(relation, inputs, outputs, rtol=DEFAULT_RTOL, row_scales=No
         :func:`kinds_of_matrices`.
     variable_scales : array_like, shape=[2n], optional
         Scale of each variable, θ then x, in its unit
-        (:func:`classify.comparison.relation_variable_scales`); with them no
-        decision depends on the unit of length. Default: the columns as
+        (:func:`variable_scales`); with them no decision depends on the unit
+        of length. Default: the columns as
         given, steps ``VARIABLE_STEP · (1 + |value|)``.
 
     Returns

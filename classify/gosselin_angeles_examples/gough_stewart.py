@@ -61,6 +61,9 @@ from ._rotations import orientation_from_vectors, rotated, row_times_left_jacobi
 __all__ = ["GoughStewartGeometry", "gough_stewart_geometry", "eq75_relation", "eq81_relation"]
 
 REFERENCE = "Gosselin & Angeles (1990) Section VII, eqs. 71-87"
+#: the relations' variables, θ then x: the leg lengths c, the platform's position, the rotation vector r
+#: (:attr:`classify.gosselin_angeles.InputOutputRelation.units`)
+UNITS = ("length",) * 9 + ("angle",) * 3
 
 #: largest relative residual of the platform points against eqs. 73-74 turned by Q
 _LAYOUT_TOLERANCE = 1e-9
@@ -164,7 +167,8 @@ def _eq75_relation(key):
     _, legs = _legs(key, outputs)
     equations = [length - sympy.sqrt(leg.dot(leg)) for length, leg in zip(inputs, legs)]
     return relation_from_sympy(inputs, outputs, equations=equations, name="Gough-Stewart eq. 75",
-                               reference=REFERENCE + " (eqs. 75-78, F_i = c_i - sqrt(U_i^2 + V_i^2 + W_i^2))")
+                               reference=REFERENCE + " (eqs. 75-78, F_i = c_i - sqrt(U_i^2 + V_i^2 + W_i^2))",
+                               units=UNITS)
 
 
 @functools.lru_cache(maxsize=None)
@@ -176,7 +180,7 @@ def _eq81_relation(key):
             for point, leg in zip(turned, legs)]
     return relation_from_sympy(inputs, outputs, input_jacobian=sympy.diag(*inputs),
                                output_jacobian=sympy.Matrix.vstack(*rows), name="Gough-Stewart eqs. 81-83",
-                               reference=REFERENCE + " (eqs. 79-83, rows -a_i)")
+                               reference=REFERENCE + " (eqs. 79-83, rows -a_i)", units=UNITS)
 
 
 def _coordinates_function(mechanism, geometry):

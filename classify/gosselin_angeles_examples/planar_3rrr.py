@@ -261,5 +261,6 @@ def planar_3rrr_relation(mechanism, modes=None):
     values = {symbol: sympy.Float(value) for symbol, value in geometry.parameters.items()}
     input_jacobian, output_jacobian = (matrix.xreplace(values) for matrix in planar_3rrr_matrices(modes))
     relation = relation_from_sympy(THETAS, POSE, input_jacobian=input_jacobian, output_jacobian=output_jacobian,
-                                   name="eq44", reference=REFERENCE)
+                                   name="eq44", reference=REFERENCE,
+                                   units=("angle",) * 3 + ("length", "length", "angle"))
     return relation, planar_3rrr_coordinates(mechanism, geometry)

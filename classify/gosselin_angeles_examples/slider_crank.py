@@ -57,6 +57,9 @@ __all__ = [
 ]
 
 REFERENCE = "Gosselin & Angeles (1990) Section III, eqs. 6-17"
+#: the relations' variables, θ then x: the crank angle θ and the slide x
+#: (:attr:`classify.gosselin_angeles.InputOutputRelation.units`)
+UNITS = ("angle", "length")
 
 #: largest distance of the crank pivot from the slide's line, relative to R + l (eqs. 6-7 assume 0)
 _OFFSET_TOLERANCE = 1e-9
@@ -234,7 +237,8 @@ def eq9_relation(mechanism, branch=1):
     equation = _X - _CRANK * sympy.cos(_THETA) - _SIGN * _COUPLER * sympy.sqrt(_radicand())
     relation = relation_from_sympy([_THETA], [_X], equations=[equation],
                                    parameters={**geometry.parameters, _SIGN: branch},
-                                   name=f"eq9[{'+' if branch > 0 else '-'}]", reference=REFERENCE + ", eq. 9")
+                                   name=f"eq9[{'+' if branch > 0 else '-'}]", reference=REFERENCE + ", eq. 9",
+                                   units=UNITS)
     return relation, slider_crank_coordinates(mechanism, geometry)
 
 
@@ -302,7 +306,8 @@ def eq12_relation(mechanism, branch=1):
     input_jacobian, output_jacobian = eq12_matrices(branch)
     relation = relation_from_sympy([_THETA], [_X], input_jacobian=input_jacobian, output_jacobian=output_jacobian,
                                    parameters=geometry.parameters,
-                                   name=f"eq12[{'+' if branch > 0 else '-'}]", reference=REFERENCE + ", eq. 12")
+                                   name=f"eq12[{'+' if branch > 0 else '-'}]", reference=REFERENCE + ", eq. 12",
+                                   units=UNITS)
     return relation, slider_crank_coordinates(mechanism, geometry)
 
 
@@ -369,5 +374,5 @@ def squared_relation(mechanism):
     """
     geometry = slider_crank_geometry(mechanism)
     relation = relation_from_sympy([_THETA], [_X], equations=[squared_equation()], parameters=geometry.parameters,
-                                   name="squared", reference=REFERENCE + ", eqs. 6-7 squared")
+                                   name="squared", reference=REFERENCE + ", eqs. 6-7 squared", units=UNITS)
     return relation, slider_crank_coordinates(mechanism, geometry)

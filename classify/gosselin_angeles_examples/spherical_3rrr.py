@@ -217,7 +217,8 @@ def _closure_relation(key):
     return relation_from_sympy(inputs, outputs, equations=equations,
                                parameters={alpha1: alpha1_value, alpha2: alpha2_value},
                                name="spherical 3-RRR leg closure w_i.v_i = cos alpha2",
-                               reference=REFERENCE + " (leg closure; A, B = -eqs. 68-69 times J_left)")
+                               reference=REFERENCE + " (leg closure; A, B = -eqs. 68-69 times J_left)",
+                               units=("angle",) * 6)
 
 
 @functools.lru_cache(maxsize=None)
@@ -235,7 +236,8 @@ def _velocity_relation(key):
         diagonal.append(elbow.cross(motor).dot(wrist))  # (wᵢ × uᵢ)·vᵢ, eq. 69
     return relation_from_sympy(inputs, outputs, input_jacobian=sympy.diag(*diagonal),
                                output_jacobian=sympy.Matrix.vstack(*rows), parameters={alpha1: alpha1_value},
-                               name="spherical 3-RRR eqs. 68-69", reference=REFERENCE + " (eqs. 67-69)")
+                               name="spherical 3-RRR eqs. 68-69", reference=REFERENCE + " (eqs. 67-69)",
+                               units=("angle",) * 6)
 
 
 def _coordinates_function(mechanism, geometry):

@@ -302,5 +302,5 @@ def watt_relation(mechanism):
         return np.array([[values["D1"] * values["D2"]]])
 
     relation = relation_from_callables(("theta",), ("phi",), input_jacobian, output_jacobian,
-                                       name="eq32", reference=REFERENCE)
+                                       name="eq32", reference=REFERENCE, units=("angle", "angle"))
     return relation, watt_coordinates(mechanism, geometry)

@@ -7,8 +7,8 @@ eq. 12) kind II in metres but regular in millimetres; the planar 3-RRR at its re
 I, II, III in millimetres; the Gough–Stewart (eqs. 75, 81) not differentiable in millimetres and kind II in
 micrometres. The probe that sizes the rows and looks for kinks moved each variable by 10⁻²·(1 + |value|),
 more than a millimetre-sized mechanism, and took a leg of length 10⁻³ (F = c − ‖w‖, smooth there) for the
-kink at ‖w‖ = 0. The columns are now measured in the variables' own scales (:func:`classify.comparison.
-relation_variable_scales`) and a kink must persist down to a fine step.
+kink at ‖w‖ = 0. The columns are now taken in the variables' own scales (each relation declares its
+variables' kinds: :func:`classify.gosselin_angeles.variable_scales`) and a kink must persist down to a fine step.
 """
 
 import math
@@ -124,3 +124,26 @@ def test_the_reason_names_both_causes():
     """A kink of F (A and B finite) is ``not_differentiable`` too: the reason says so."""
     text = REASONS["not_differentiable"]
     assert "kink" in text and "not finite" in text
+
+
+def test_every_paper_relation_declares_its_units():
+    """Each of the paper's relations says which of its variables are lengths (the slider-crank's x, the
+    Gough–Stewart's leg lengths and position, the 3-RRR's x, y), so σ is the characteristic length there and 1
+    for an angle; a relation without units is taken in the caller's units."""
+    from classify.gosselin_angeles import InputOutputRelation, variable_scales
+
+    expected = {"slider-crank": ("angle", "length"), "watt-six-bar": ("angle", "angle"),
+                "planar-3rrr": ("angle",) * 3 + ("length", "length", "angle"),
+                "spherical-3rrr": ("angle",) * 6, "gough-stewart": ("length",) * 9 + ("angle",) * 3}
+    for name, relations in RELATIONS.items():
+        mechanism = catalogue.entry(name).mechanism()
+        for label, build in relations.items():
+            relation, _ = build(mechanism, home(mechanism))
+            assert relation.units == expected[name], (name, label)
+            scales = variable_scales(relation, mechanism.characteristic_length)
+            assert scales.tolist() == [mechanism.characteristic_length if unit == "length" else 1.0
+                                       for unit in expected[name]]
+    bare = InputOutputRelation("F", ("t",), ("x",), lambda theta, x: (np.eye(1), np.eye(1)))
+    assert variable_scales(bare, 7.0) is None
+    with pytest.raises(ValueError, match="units must be 2 of 'length' or 'angle'"):
+        InputOutputRelation("F", ("t",), ("x",), lambda theta, x: (np.eye(1), np.eye(1)), units=("metre", "angle"))
