@@ -343,13 +343,14 @@ class Report:
                 lines.append(f"  {label:<13} none")
                 return
             kept, dropped = result.decision.margin
+            shown = _apart(result.decision.tolerance, kept, dropped)
             margin = ", ".join(filter(None, [
-                None if kept is None else f"smallest kept σ = {kept:.3g}",
-                None if dropped is None else f"largest dropped σ = {dropped:.3g}"]))
+                None if kept is None else f"smallest kept σ = {shown[1]}",
+                None if dropped is None else f"largest dropped σ = {shown[2]}"]))
             state = "SINGULAR" if result.singular else "regular"
             where = " on ker DΦ(p)" if result.extra.get("on_kernel_of_constraint") else ""
             lines.append(f"  {label:<13} {state:<9} rank {result.rank}{where} / expected {result.expected_rank}"
-                         f"{extra}  [{margin}; cut {result.decision.tolerance:.1e}]")
+                         f"{extra}  [{margin}; cut {shown[0]}]")
             if result.singular:
                 for column in result.kernel.T:
                     lines.append("      lost direction: " + _format_direction(_named(column, names)))
@@ -370,8 +371,11 @@ class Report:
                              f"value reached at most {dropped:.2g} of its cut)")
         if self.second_order is not None:
             second = self.second_order
-            lines.append(f"      second order: min |Q(v)| = {second.smallest:.3g} "
-                         f"(cut {second.tolerance:.1e}): {second.reason}")
+            vanish = second.smallest <= second.tolerance   # a common root: the smallest value is "dropped"
+            cut, above, below = _apart(second.tolerance, None if vanish else second.smallest,
+                                       second.smallest if vanish else None)
+            lines.append(f"      second order: min |Q(v)| = {below if vanish else above} (cut {cut}): "
+                         f"{second.reason}")
             if second.self_motion is not None:
                 motion = second.self_motion
                 start = "" if motion.offset == 0.0 else f" from the singularity at distance {motion.offset:.2g}"
@@ -391,4 +395,20 @@ class Report:
 
 
 def _format_direction(named):
-    return ", ".join(f"{printable(name)} {value:+.3f}" for name, value in named.items()) or "(zero)"
+    """``name ±value, …``: three decimals, or three significant digits for an entry below 5e-4 (which three
+    decimals would show as ±0.000 beside the entries left out as zero)."""
+    return ", ".join(f"{printable(name)} {value:+.3f}" if abs(value) >= 5e-4 else f"{printable(name)} {value:+.2e}"
+                     for name, value in named.items()) or "(zero)"
+
+
+def _apart(cut, kept=None, dropped=None):
+    """`cut`, `kept` and `dropped` as text with as many significant digits as it takes (3 at least for the
+    values, 2 for the cut) for the printed kept value to stay above the printed cut and the dropped one not above
+    it: rounding never shows a verdict's margin the wrong way round. A missing value is None."""
+    for digits in range(3, 18):
+        texts = (f"{cut:.{digits - 2}e}", None if kept is None else f"{kept:.{digits}g}",
+                 None if dropped is None else f"{dropped:.{digits}g}")
+        if ((kept is None or float(texts[1]) > float(texts[0]))
+                and (dropped is None or float(texts[2]) <= float(texts[0]))):
+            return texts
+    return texts
