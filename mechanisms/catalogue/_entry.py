@@ -27,7 +27,32 @@ from ..mechanism import Mechanism
 #: the errors a builder raises when its parameters make no mechanism (besides MechanismError)
 _BUILD_ERRORS = (ValueError, ArithmeticError, np.linalg.LinAlgError)
 
-__all__ = ["Entry", "parse_parameter"]
+__all__ = ["Entry", "ReadOnly", "parse_parameter", "read_only_with"]
+
+
+@dataclass(frozen=True)
+class ReadOnly:
+    """When a builder reads one of its parameters: a parameter that only one variant of the mechanism reads
+    (an angle that only a degenerate assembly branch leaves free), refused when set for another variant.
+
+    Parameters
+    ----------
+    condition : str
+        Where the parameter is read, completing "read only …" (``"with assembly = 0"``).
+    reads : callable
+        ``reads(values) -> bool`` for the full parameter set (:meth:`Entry.values`).
+    shown : tuple of str
+        Parameters whose values the refusal shows (``("assembly",)``).
+    """
+
+    condition: str
+    reads: Callable[[Mapping[str, object]], bool]
+    shown: tuple = ()
+
+
+def read_only_with(name, value):
+    """A :class:`ReadOnly` for a parameter read only when parameter `name` equals `value`."""
+    return ReadOnly(f"with {name} = {value}", lambda values: values[name] == value, (name,))
 
 
 @dataclass(frozen=True)
@@ -48,12 +73,17 @@ class Entry:
         Named configurations: parameter overrides (e.g. the singular
         configurations a paper states), each cited in ``reference`` or in
         the builder's docstring.
+    read_only : mapping of str to ReadOnly
+        Parameters the builder reads only in some variants, with when: one the
+        user sets (:meth:`values`) where it is not read is refused rather than
+        silently ignored. The named configurations may set them regardless.
     """
 
     name: str
     build: Callable[..., Mechanism]
     reference: str
     configurations: Mapping[str, Mapping[str, object]] = field(default_factory=dict)
+    read_only: Mapping[str, ReadOnly] = field(default_factory=dict)
 
     def __post_init__(self):
         for configuration, overrides in self.configurations.items():
@@ -61,6 +91,10 @@ class Entry:
             if unknown:
                 raise ValueError(f"catalogue entry {self.name!r}: configuration {configuration!r} sets "
                                  f"unknown parameter(s) {sorted(unknown)}")
+        unknown = set(self.read_only) - set(self.parameters)
+        if unknown:
+            raise ValueError(f"catalogue entry {self.name!r}: read_only names unknown parameter(s) "
+                             f"{sorted(unknown)}")
 
     @property
     def parameters(self):
@@ -91,7 +125,8 @@ class Entry:
         Raises
         ------
         MechanismError
-            For an unknown configuration or parameter, or a parameter with
+            For an unknown configuration or parameter, a parameter the builder
+            does not read with these values (:meth:`values`), or one with
             which the mechanism cannot be assembled.
         """
         return self.assemble(self.values(configuration, **parameters))
@@ -126,7 +161,28 @@ class Entry:
             raise MechanismError(f"{self.name} with {_settings(changed)}: cannot be built: {reason}") from None
 
     def values(self, configuration=None, **parameters):
-        """The full parameter set: defaults, then the configuration's presets, then `parameters`."""
+        """The full parameter set: defaults, then the configuration's presets, then `parameters`.
+
+        Parameters
+        ----------
+        configuration : str, optional
+            One of :attr:`configurations`.
+        **parameters
+            The parameters the user sets (typed).
+
+        Returns
+        -------
+        dict of str to value
+            Every parameter of the builder.
+
+        Raises
+        ------
+        MechanismError
+            For an unknown configuration or parameter, a value of the wrong
+            type, or a parameter of `parameters` that the builder does not
+            read with these values (:attr:`read_only`): one line naming it
+            and where it is read. The configuration's presets are not checked.
+        """
         if configuration is not None and configuration not in self.configurations:
             known = ", ".join(self.configurations) or "none"
             raise MechanismError(f"{self.name}: unknown configuration {configuration!r} (known: {known})")
@@ -140,6 +196,13 @@ class Entry:
         if configuration is not None:
             values.update(self.configurations[configuration])
         values.update(parameters)
+        for name in parameters:
+            rule = self.read_only.get(name)
+            if rule is not None and not rule.reads(values):
+                here = ", ".join(f"{other} = {values[other]!r}" for other in rule.shown)
+                raise MechanismError(f"{self.name}: parameter {name!r} is read only {rule.condition}"
+                                     f"{f' (here {here})' if here else ''}: it would have no effect (leave it "
+                                     f"unset)")
         return values
 
 

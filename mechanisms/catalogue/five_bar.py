@@ -21,7 +21,7 @@ import math
 from ..errors import MechanismError
 from ..joints import EndEffector, Joint
 from ..mechanism import Mechanism
-from ._entry import Entry
+from ._entry import Entry, read_only_with
 
 __all__ = ["five_bar", "five_bar_points", "five_bar_inputs", "circle_intersection", "WORKING_MODES", "ENTRIES"]
 
@@ -81,17 +81,18 @@ def circle_intersection(centre1, radius1, centre2, radius2, side, where="circle_
     return (centre1[0] + along * unit[0] - height * unit[1], centre1[1] + along * unit[1] + height * unit[0])
 
 
-def _lengths(base, proximal, distal, proximal_right, distal_right):
-    """(L0, L1, L2, L3, L4), with L3 = L1 and L4 = L2 when given as 0 (the symmetric design)."""
+def _lengths(base, proximal, distal, proximal_right, distal_right, label="five-bar"):
+    """(L0, L1, L2, L3, L4), with L3 = L1 and L4 = L2 when given as 0 (the symmetric design); `label` starts
+    the error message."""
     lengths = (base, proximal, distal, proximal_right or proximal, distal_right or distal)
     for name, value in zip(("base", "proximal", "distal", "proximal_right", "distal_right"), lengths):
         if not value > 0:
-            raise MechanismError(f"five-bar: {name} must be positive, got {value}")
+            raise MechanismError(f"{label}: {name} must be positive, got {value}")
     return lengths
 
 
 def five_bar_points(*, base=6.0, proximal=8.0, distal=5.0, proximal_right=0.0, distal_right=0.0,
-                    theta1=1.8, theta2=1.3, assembly=1, theta3=0.0):
+                    theta1=1.8, theta2=1.3, assembly=1, theta3=0.0, label="five-bar", names=None):
     """Joint centres A, C, P, D, B of the five-bar at inputs θ1, θ2 (the direct kinematics).
 
     Parameters
@@ -110,6 +111,11 @@ def five_bar_points(*, base=6.0, proximal=8.0, distal=5.0, proximal_right=0.0, d
         Park & Kim Figs. 1c, 1d, 6b).
     theta3 : float
         θ3, the angle of P − C; read only with ``assembly=0``.
+    label : str
+        What starts the error messages (a mechanism built on this five-bar names itself).
+    names : mapping of str to str, optional
+        The caller's names of ``theta1``, ``theta2``, ``theta3`` in the error messages (default: these);
+        the other parameters keep their names.
 
     Returns
     -------
@@ -122,10 +128,12 @@ def five_bar_points(*, base=6.0, proximal=8.0, distal=5.0, proximal_right=0.0, d
         Naming theta1/theta2 when the distal links cannot close the loop, or
         `assembly` when it does not fit the inputs.
     """
+    names = {"theta1": "theta1", "theta2": "theta2", "theta3": "theta3", **(names or {})}
     base, proximal, distal, proximal_right, distal_right = _lengths(base, proximal, distal, proximal_right,
-                                                                     distal_right)
+                                                                     distal_right, label)
     if assembly not in (1, -1, 0):
-        raise MechanismError(f"five-bar: assembly must be 1, -1 or 0, got {assembly!r}")
+        raise MechanismError(f"{label}: assembly must be 1, -1 or 0, got {assembly!r}")
+    inputs = f"{names['theta1']} = {theta1}, {names['theta2']} = {theta2}"
     a, b = (0.0, 0.0), (base, 0.0)
     c = tuple(proximal * value for value in _direction(theta1))
     d = tuple(b[i] + proximal_right * _direction(theta2)[i] for i in range(2))
@@ -133,17 +141,16 @@ def five_bar_points(*, base=6.0, proximal=8.0, distal=5.0, proximal_right=0.0, d
     coincide = gap <= _ROUNDING * (base + proximal + proximal_right)
     if assembly == 0:
         if not coincide:
-            raise MechanismError(f"five-bar: assembly = 0 needs the elbows C and D to coincide; at "
-                                 f"theta1 = {theta1}, theta2 = {theta2} they are {gap:.6g} apart")
+            raise MechanismError(f"{label}: assembly = 0 needs the elbows C and D to coincide; at "
+                                 f"{inputs} they are {gap:.6g} apart")
         if not math.isclose(distal, distal_right, rel_tol=1e-12):
-            raise MechanismError("five-bar: assembly = 0 needs equal distal links (distal = distal_right)")
+            raise MechanismError(f"{label}: assembly = 0 needs equal distal links (distal = distal_right)")
         p = tuple(c[i] + distal * _direction(theta3)[i] for i in range(2))
         return {"A": a, "C": c, "P": p, "D": c, "B": b}
     if coincide:
-        raise MechanismError(f"five-bar: at theta1 = {theta1}, theta2 = {theta2} the elbows C and D "
-                             f"coincide and P is free on a circle: use assembly = 0 with theta3")
-    p = circle_intersection(c, distal, d, distal_right, assembly,
-                            where=f"five-bar: theta1 = {theta1}, theta2 = {theta2}")
+        raise MechanismError(f"{label}: at {inputs} the elbows C and D coincide and P is free on a circle: "
+                             f"use assembly = 0 with {names['theta3']}")
+    p = circle_intersection(c, distal, d, distal_right, assembly, where=f"{label}: {inputs}")
     return {"A": a, "C": c, "P": p, "D": d, "B": b}
 
 
@@ -207,7 +214,7 @@ def five_bar(*, base=6.0, proximal=8.0, distal=5.0, proximal_right=0.0, distal_r
         working mode of Chablat, Wenger & Angeles 1998 (the inverse-kinematics branch) follows from the
         posture; :func:`five_bar_inputs` gives the inputs of a posture in a mode.
     theta3 : float
-        θ3, the angle of P − C; read only with ``assembly=0``.
+        θ3, the angle of P − C; read only with ``assembly=0`` (the catalogue entry refuses it set otherwise).
     actuated : str
         Comma-separated names of the driven joints among A, C, P, D, B (default
         the base joints A, B as in both papers).
@@ -313,5 +320,6 @@ ENTRIES = (
               "eq3c_left_leg_folded": _leg_singular("left", False, 2.2, "++"),
               "eq3c_right_leg_stretched": _leg_singular("right", True, 1.9, "++"),
               "eq3c_right_leg_folded": _leg_singular("right", False, 1.9, "++"),
-          }),
+          },
+          read_only={"theta3": read_only_with("assembly", 0)}),
 )

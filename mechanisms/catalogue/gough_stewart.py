@@ -68,6 +68,8 @@ def gough_stewart(*, base_radius=1.0, platform_radius=0.5, base_angle=math.pi / 
         R_B and R_P, radii of the circles of the base and platform joints (eqs. 71, 73).
     base_angle, platform_angle : float
         φ_B and φ_P (rad): half the angular gap within a pair of joints (eqs. 72, 74).
+        The paper gives no numbers: the defaults R_B = 1, R_P = 0.5, φ_B = π/18 (10°),
+        φ_P = π/3 − π/18 (50°) are a design of ours.
     x, y, z : float
         The platform centre x = (x, y, z) in the base frame (eqs. 76-78).
     rotation_x, rotation_y, rotation_z : float

@@ -21,7 +21,7 @@ import math
 
 from ..joints import EndEffector, Joint
 from ..mechanism import Mechanism
-from ._entry import Entry
+from ._entry import Entry, read_only_with
 from .five_bar import circle_intersection, five_bar_inputs, five_bar_points
 
 __all__ = ["hybrid", "hybrid_points", "ENTRIES"]
@@ -29,6 +29,8 @@ __all__ = ["hybrid", "hybrid_points", "ENTRIES"]
 _LOOP = (("A", ("frame", "proximal_left")), ("C", ("proximal_left", "distal_left")),
          ("P", ("distal_left", "distal_right")), ("D", ("distal_right", "proximal_right")),
          ("B", ("proximal_right", "frame")))
+#: The hybrid's names of the five-bar's angles (:func:`five_bar_points`), for its error messages.
+_FIVE_BAR_NAMES = {"theta1": "theta2", "theta2": "theta3", "theta3": "theta4"}
 
 
 def hybrid_points(*, base=6.0, proximal=8.0, distal=5.0, theta1=0.4, theta2=1.8, theta3=1.3, assembly=1,
@@ -61,7 +63,7 @@ def hybrid_points(*, base=6.0, proximal=8.0, distal=5.0, theta1=0.4, theta2=1.8,
     e = (cos θ1, 0, −sin θ1), the x axis turned by θ1 about Y; the normal is j × e.
     """
     planar = five_bar_points(base=base, proximal=proximal, distal=distal, theta1=theta2, theta2=theta3,
-                             assembly=assembly, theta3=theta4)
+                             assembly=assembly, theta3=theta4, label="hybrid", names=_FIVE_BAR_NAMES)
     across = (math.cos(theta1), 0.0, -math.sin(theta1))
     points = {name: (v * across[0], u, v * across[2]) for name, (u, v) in planar.items()}
     normal = (-math.sin(theta1), 0.0, -math.cos(theta1))
@@ -84,7 +86,7 @@ def hybrid(*, base=6.0, proximal=8.0, distal=5.0, theta1=0.4, theta2=1.8, theta3
         The five-bar's direct-kinematics branch: P left (+1) or right (−1) of
         C→D in the plane's (AB, e) frame; 0: coincident elbows, P placed by `theta4`.
     theta4 : float
-        θ4, the angle of P − C; read only with ``assembly=0``.
+        θ4, the angle of P − C; read only with ``assembly=0`` (the catalogue entry refuses it set otherwise).
     end_effector : bool
         Whether the position of P (carried by the link CP) is the end-effector.
 
@@ -146,5 +148,6 @@ ENTRIES = (
               # eq. 25 with k = 0, θ4 = θ5: the elbows C and D coincide and P turns freely about them.
               "eq25_elbows_coincide": {"theta2": math.atan2(math.sqrt(55.0), 3.0),
                                        "theta3": math.atan2(math.sqrt(55.0), -3.0), "assembly": 0, "theta4": 2.8},
-          }),
+          },
+          read_only={"theta4": read_only_with("assembly", 0)}),
 )

@@ -27,7 +27,7 @@ from scipy.optimize import least_squares
 from ..errors import MechanismError
 from ..joints import EndEffector, Joint
 from ..mechanism import Mechanism
-from ._entry import Entry
+from ._entry import Entry, read_only_with
 
 __all__ = ["planar_3rrr", "planar_3rrr_positions", "motor_centres", "gripper_vertices", "leg_aligned_pose",
            "concurrent_distal_pose", "parallel_distal_pose", "ENTRIES"]
@@ -122,7 +122,8 @@ def planar_3rrr(*, base=1.0, l1=0.5, l2=0.4, l3=0.2, x=0.5, y=0.3, phi=0.2, mode
         input θ_i is given (where the vertex sits on the motor, eq. 65, the inverse
         kinematics leaves θ_i free).
     theta1, theta2, theta3 : float
-        θ_i (rad) for the legs with mode 0; default the values of eq. (65), −150°, −30°, 90°.
+        θ_i (rad) for the legs with mode 0; default the values of eq. (65), −150°, −30°, 90°. Read only
+        for those legs (the catalogue entry refuses θ_i set for a leg of mode ±1).
     end_effector : bool
         Whether the gripper's pose (at its centroid) is the end-effector.
 
@@ -344,5 +345,6 @@ ENTRIES = (
               "eq65_vertices_on_motors_other_inputs": {**EQ65_DESIGN, **_CENTROID, "phi": 0.0,
                                                        "mode1": 0, "mode2": 0, "mode3": 0,
                                                        "theta1": 0.3, "theta2": 1.0, "theta3": -2.0},
-          }),
+          },
+          read_only={f"theta{leg}": read_only_with(f"mode{leg}", 0) for leg in (1, 2, 3)}),
 )

@@ -22,7 +22,10 @@ def slider_crank(*, crank=2.0, coupler=1.0, theta=0.3, branch=1, actuated="crank
     Parameters
     ----------
     crank, coupler : float
-        R and l (Gosselin & Angeles Fig. 2).
+        R and l (Gosselin & Angeles Fig. 2). Neither paper gives numbers: the defaults R = 2, l = 1
+        are a design of ours, a crank that cannot turn fully (R > l), whose coupler reaches the normal
+        to the slide at sin θ = l/R (Park & Kim Fig. 3b's actuator singularity); the equal-link
+        configurations set R = l = 1.
     theta : float
         Crank angle θ (rad) from the slide.
     branch : int

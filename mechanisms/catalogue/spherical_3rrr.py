@@ -20,9 +20,9 @@ from scipy.spatial.transform import Rotation
 from ..errors import MechanismError
 from ..joints import EndEffector, Joint
 from ..mechanism import Mechanism
-from ._entry import Entry
+from ._entry import Entry, ReadOnly
 
-__all__ = ["spherical_3rrr", "motor_axes", "leg_axes", "ENTRIES"]
+__all__ = ["spherical_3rrr", "motor_axes", "folded_legs", "leg_axes", "ENTRIES"]
 
 #: tolerance on ‖uᵢ × vᵢ‖ below which a leg is folded onto its motor axis
 _FOLDED = 1e-12
@@ -36,6 +36,24 @@ def motor_axes():
     """
     angles = 2 * np.pi * np.arange(3) / 3
     return np.stack([np.cos(angles), np.sin(angles), np.zeros(3)], axis=-1)
+
+
+def folded_legs(rotation_x, rotation_y, rotation_z):
+    """The legs (1, 2, 3) whose gripper axis vᵢ = Q uᵢ lies on the motor axis uᵢ (vᵢ = ±uᵢ), where the input θ
+    is free (:func:`leg_axes` places wᵢ by `theta_folded` there).
+
+    Parameters
+    ----------
+    rotation_x, rotation_y, rotation_z : float
+        The gripper orientation as a rotation vector (rad), as :func:`spherical_3rrr`.
+
+    Returns
+    -------
+    tuple of int
+    """
+    orientation = Rotation.from_rotvec([rotation_x, rotation_y, rotation_z]).as_matrix()
+    return tuple(leg for leg, motor in enumerate(motor_axes(), start=1)
+                 if np.linalg.norm(np.cross(motor, orientation @ motor)) < _FOLDED)
 
 
 def leg_axes(motor, gripper, alpha1, alpha2, working_mode, theta_folded=0.0, leg=1):
@@ -111,7 +129,10 @@ def spherical_3rrr(*, alpha1=math.pi / 3, alpha2=math.pi / 4, rotation_x=0.3, ro
     ----------
     alpha1, alpha2 : float
         Link angles α₁ (motor to intermediate axis) and α₂ (intermediate to
-        gripper axis), the same for the three legs (G-A eq. 66), rad.
+        gripper axis), the same for the three legs (G-A eq. 66), rad. The paper
+        gives no numbers: the defaults α₁ = π/3, α₂ = π/4 are a design of ours,
+        with α₁ ≠ α₂ and α₁ + α₂ ≠ π, so that no leg can fold onto its motor
+        axis (the special designs of Section VI are named configurations).
     rotation_x, rotation_y, rotation_z : float
         The gripper orientation Q = exp([r]ₓ) as a rotation vector r in the
         base frame (rad); the gripper axes are vᵢ = Q uᵢ (:func:`motor_axes`).
@@ -121,7 +142,8 @@ def spherical_3rrr(*, alpha1=math.pi / 3, alpha2=math.pi / 4, rotation_x=0.3, ro
     theta_folded : float
         Input angle θ (rad, from the base plane) of a leg folded onto its
         motor axis (vᵢ = uᵢ, reachable when α₁ = α₂ at Q = 1), where the
-        orientation leaves it free; unused otherwise.
+        orientation leaves it free (:func:`folded_legs`); unused otherwise (the
+        catalogue entry refuses it set there).
     end_effector : bool
         Whether the gripper orientation is the end-effector.
 
@@ -198,5 +220,8 @@ ENTRIES = (
               # α₁ = α₂ = π/2, vᵢ coplanar with uᵢ: the gripper spins about the normal (Section VI)
               "section6_right_alphas_coplanar": {"alpha1": math.pi / 2, "alpha2": math.pi / 2, "rotation_x": 0.0,
                                        "rotation_y": 0.0, "rotation_z": 1.0},
-          }),
+          },
+          read_only={"theta_folded": ReadOnly(
+              "where a leg is folded onto its motor axis (vᵢ = ±uᵢ; none is at this orientation)",
+              lambda values: bool(folded_legs(values["rotation_x"], values["rotation_y"], values["rotation_z"])))}),
 )

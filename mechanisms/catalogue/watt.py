@@ -29,7 +29,7 @@ import math
 from ..errors import MechanismError
 from ..joints import EndEffector, Joint
 from ..mechanism import Mechanism
-from ._entry import Entry
+from ._entry import Entry, read_only_with
 
 __all__ = ["watt_six_bar", "watt_positions", "watt_singular_configuration", "watt_input_for_rocker", "ENTRIES"]
 
@@ -155,7 +155,7 @@ def watt_six_bar(*, l1=1.2, l2=1.6, l3=0.6, l4=1.5, theta=0.7, branch_rocker=1, 
     branch_output : {1, -1}
         Branch of φ (eq. 23): the sign of sin(φ − α) in our frame.
     psi : float
-        ψ (rad) when ``branch_rocker == 0``; ignored otherwise.
+        ψ (rad) when ``branch_rocker == 0``; ignored otherwise (the catalogue entry refuses it set there).
     end_effector : bool
         Whether the orientation of the output link l₃ (the angle φ) is the end-effector.
 
@@ -335,5 +335,6 @@ ENTRIES = (
               "eq41_joints_4_6_branch_crossing": {
                   **EQUAL_OUTPUT_AND_COUPLER, "branch_rocker": 1, "branch_output": 1,
                   "theta": watt_input_for_rocker(0.0, l1=DEFAULT_DESIGN["l1"], l2=DEFAULT_DESIGN["l2"])},
-          }),
+          },
+          read_only={"psi": read_only_with("branch_rocker", 0)}),
 )
