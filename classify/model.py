@@ -9,6 +9,8 @@ the five-bar, and both are classified by the same code.
 
 from __future__ import annotations
 
+import threading
+import weakref
 from dataclasses import dataclass, field, replace
 from typing import Callable, Optional
 
@@ -23,7 +25,34 @@ from mechanisms.joints import joint_coordinate_names
 
 from .metrics import end_effector_metric, weighted_actuator_jacobian
 
-__all__ = ["Model", "model_of", "joint_output_model"]
+__all__ = ["Model", "model_of", "joint_output_model", "cache_lock"]
+
+#: per model, the lock of its :attr:`Model.cache` (weakly keyed: a model that is gone takes its lock along; not
+#: a field of the model, which stays picklable)
+_CACHE_LOCKS = weakref.WeakKeyDictionary()
+_CACHE_LOCKS_LOCK = threading.Lock()
+
+
+def cache_lock(model):
+    """The re-entrant lock a model's :attr:`Model.cache` entries are computed under.
+
+    What is kept in the cache is computed once per model: a thread that finds
+    an entry missing computes it holding this lock, and another thread asking
+    meanwhile waits for it rather than computing it again.
+
+    Parameters
+    ----------
+    model : Model
+
+    Returns
+    -------
+    threading.RLock
+    """
+    with _CACHE_LOCKS_LOCK:
+        lock = _CACHE_LOCKS.get(model)
+        if lock is None:
+            lock = _CACHE_LOCKS[model] = threading.RLock()
+        return lock
 
 
 @dataclass(frozen=True, eq=False)
@@ -55,7 +84,8 @@ class Model:
     ----------
     cache : dict
         What is computed once per model and reused (its survey,
-        :func:`classify.survey.survey_of`); not copied by ``dataclasses.replace``.
+        :func:`classify.survey.survey_of`); not copied by ``dataclasses.replace``. Its entries are computed
+        under :func:`cache_lock`, once however many threads ask.
     """
 
     name: str
@@ -76,10 +106,14 @@ class Model:
     @property
     def constraint_rows(self):
         """c, the rows of Φ (and of DΦ), from Φ at the first start (kept in :attr:`cache`)."""
-        if "constraint_rows" not in self.cache:
-            point = np.asarray(self.starts[0], dtype=float)
-            self.cache["constraint_rows"] = int(np.shape(self.manifold.constraint(point))[-1])
-        return self.cache["constraint_rows"]
+        rows = self.cache.get("constraint_rows")
+        if rows is None:
+            with cache_lock(self):
+                rows = self.cache.get("constraint_rows")
+                if rows is None:
+                    point = np.asarray(self.starts[0], dtype=float)
+                    rows = self.cache["constraint_rows"] = int(np.shape(self.manifold.constraint(point))[-1])
+        return rows
 
 
 def model_of(mechanism, length_scale=None):
