@@ -53,9 +53,10 @@ import numpy as np
 
 from manifold import DEFAULT_ATOL, DEFAULT_RTOL, check_rtol, implicit, tangent_extents
 from mechanisms import CLOSURE_TOLERANCE, ConfigurationError, Mechanism, closure_and_jacobian
+from mechanisms.kinematics import rotation_blocks
 from mechanisms.mechanism import dense_memory_estimate
 
-from .classification import CLOSURE_BAND, classify, closure_of
+from .classification import CLOSURE_BAND, classify, closure_of, not_on_m
 from .metrics import JACOBI_ROWS, JACOBI_STACK, metric_root, moving_directions, proper_values, singular_values
 from .model import model_of
 from .progress import progress_bar
@@ -338,6 +339,7 @@ def _closure_and_jacobian(model, points, offset):
     if model.mechanism is not None:
         rows, turns, jacobian = closure_and_jacobian(model.mechanism, points)
         residuals = np.linalg.norm(rows, axis=-1)
+        turns = turns & np.all(rotation_blocks(model.mechanism, points)[1], axis=-1)  # as classify's closes
     else:
         residuals = np.linalg.norm(manifold.constraint(points), axis=-1)
         turns = np.ones(len(points), dtype=bool)
@@ -350,8 +352,8 @@ def _closure_and_jacobian(model, points, offset):
     bad = np.flatnonzero(~(residuals <= CLOSURE_TOLERANCE) | ~turns)
     if len(bad):
         index = int(bad[0])
-        raise ConfigurationError(f"configuration {offset + index}: not on the C-space "
-                                 f"(|Φ| = {residuals[index]:.3g}); project it first")
+        raise ConfigurationError(not_on_m(model, points[index], residuals[index], f"configuration {offset + index}",
+                                          ":"))
     return np.asarray(jacobian, dtype=float) * manifold.ambient.tangent_scales
 
 

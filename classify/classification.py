@@ -35,6 +35,7 @@ from manifold import (
     DEFAULT_RTOL, EXTENT_CUT, check_rtol, local_rank, numerical_rank, scaled_jacobian, tangent_basis, tangent_extent,
 )
 from mechanisms import CLOSURE_TOLERANCE, ConfigurationError, Mechanism
+from mechanisms.kinematics import ROTATION_TOLERANCE, rotation_blocks
 
 from .metrics import manipulability, moving_directions
 from .model import model_of
@@ -94,7 +95,7 @@ def classify(mechanism, point, survey=None, rng=None, rtol=DEFAULT_RTOL, length_
     loop_rows = manifold.constraint(point)
     residual, closes = closure_of(model, point, loop_rows)
     if not (residual <= CLOSURE_TOLERANCE and closes):
-        raise ConfigurationError(f"the configuration is not on the C-space (|Φ| = {residual:.3g}); project it first")
+        raise ConfigurationError(not_on_m(model, point, residual, "the configuration"))
     names = model.coordinate_names
     k = manifold.ambient.dim
     scales = manifold.ambient.tangent_scales
@@ -285,6 +286,19 @@ def closure_of(model, point, rows=None):
     rows = manifold.constraint(point) if rows is None else rows
     residual = float(np.linalg.norm(np.atleast_2d(rows), axis=-1)[0])
     return residual, manifold.is_solution is None or bool(manifold.is_solution(point))
+
+
+def not_on_m(model, point, residual, what, separator=" is"):
+    """Why `point` is refused: a ball joint's block that is no rotation, named (Φ's rotation rows
+    ``½ vee(R − Rᵀ)`` do not see it: :func:`mechanisms.kinematics.rotation_blocks`), else its residual;
+    ``what`` + ``separator`` start the message."""
+    if model.mechanism is not None:
+        names, rotations = rotation_blocks(model.mechanism, point)
+        wrong = [name for name, rotation in zip(names, np.atleast_1d(rotations)) if not rotation]
+        if wrong:
+            return (f"{what}: the block of ball joint {wrong[0]!r} is not a rotation (‖RᵀR − I‖ or |det R − 1| "
+                    f"above {ROTATION_TOLERANCE:g}): not a point of the C-space")
+    return f"{what}{separator} not on the C-space (|Φ| = {residual:.3g}); project it first"
 
 
 def _distance_bound(residual, decision):

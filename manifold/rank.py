@@ -17,7 +17,10 @@ singular values of any configuration a user would call regular. Relative cuts
 do not change when a matrix is multiplied by a common factor; mixed units
 (angles and lengths in one matrix) are made commensurate upstream (loop
 rows divided by a characteristic length, end-effector Jacobians weighted by
-H^½).
+H^½). That length is taken from the joints' points alone
+(:attr:`mechanisms.Mechanism.characteristic_length`): DΦ, its cut and
+its margin describe M, so they do not depend on where the end-effector
+point is.
 
 The decision carries its *margin*: the last singular value kept and the
 first one dropped, so a user sees how close a call was.

@@ -62,6 +62,13 @@ joints free to move (a self-motion, or fewer held coordinates than degrees of
 freedom) the assemblies are not isolated: :func:`assemblies` refuses to
 number them, and :func:`assemble` returns one with ``branch = None``.
 
+Nothing to solve. When the held values fix every coordinate (every joint
+named, or named and held at home), the configuration they name is the only
+candidate: it is the assembly (branch 0 of 1, its method the one asked for,
+``"newton"`` by default) if it closes the loops (‖Φ‖ ≤ `tolerance`, no
+half-turn, :func:`mechanisms.closes`), and otherwise there is no assembly
+(:class:`AssemblyError`, naming the held values and the residual).
+
 =================  ==========================================================
 shape              meaning
 =================  ==========================================================
@@ -305,7 +312,9 @@ def _newton(fibre, starts, tolerance, max_iterations=60, max_step=0.5):
     """
     ambient = fibre.ambient
     scales = ambient.tangent_scales
-    points = np.array(starts, dtype=float).reshape(-1, ambient.point_size)
+    points = np.array(starts, dtype=float)
+    # with no free coordinate (point_size 0) a stack [n, 0] cannot be reshaped with -1
+    points = points.reshape((len(points) if ambient.point_size == 0 else -1, ambient.point_size))
     values = np.asarray(fibre.constraint(points), dtype=float)
     norms = np.linalg.norm(values, axis=-1)
     active = np.isfinite(norms)
@@ -417,6 +426,11 @@ def _from_home(problem, method, tolerance):
     fibre = problem.fibre()
     start = problem.home[problem.free_points]
     smallest = math.inf
+    if problem.reduced.dim == 0:  # nothing to solve: the targets are the only candidate, whatever the method
+        free, residual = _newton(fibre, start[None], tolerance)
+        if _closed(problem, free, residual, tolerance)[0]:
+            return _Found(free[0], method or "newton"), float(residual[0])
+        return None, float(residual[0])
     if method in (None, "newton"):
         free, residual = _newton(fibre, start[None], tolerance)
         smallest = float(residual[0])
@@ -438,7 +452,7 @@ def _search(problem, rng, count, tolerance, guess_point=None):
     if guess_point is not None:
         starts.append(guess_point[problem.free_points])
         methods.append("guess")
-    if count > 0:
+    if count > 0 and problem.reduced.dim > 0:  # with nothing free, every start is the targets (_from_home's)
         randoms = problem.reduced.random_point(rng, center=problem.home[problem.free_points], size=count)
         # onto the closing map first: from far starts, Gauss-Newton on Φ ends at half-turns for most loops
         starts += list(_newton(problem.fibre(closing=True), randoms, tolerance)[0])

@@ -94,7 +94,10 @@ class Kinematics:
         Joint name -> tuple of slices of the point array holding its coordinates
         (one per ambient factor: one for R, P, S; two for U, C).
     length : float
-        Characteristic length dividing translation rows.
+        Characteristic length dividing translation rows, and the tangent scale
+        of prismatic coordinates: :attr:`mechanisms.Mechanism.characteristic_length`,
+        taken from the joints' points only, so that the end-effector point (no
+        part of M) changes neither Φ nor the C-space rank and its margin.
     loop_groups : tuple of ChainGroup
         The loops sorted into groups of one shape (evaluated together).
     pattern : JacobianPattern
@@ -127,7 +130,7 @@ def kinematics_of(mechanism):
     if cached is not None:
         return cached
     factors, scales = [], []
-    length = mechanism.characteristic_length
+    length = mechanism.characteristic_length  # of the joints' points: M's description ignores the end-effector
     for joint in mechanism.joints:
         for factor in joint_factors(joint):
             factors.append(factor)
@@ -498,18 +501,92 @@ def constraint_hessian_form(mechanism, point, left, right=None):
     return form
 
 
-def closes(mechanism, point, tolerance=1e-9):
-    """Whether every loop closes: ‖Φ‖ ≤ tolerance and no loop is a half-turn, shape=[...]."""
+#: Largest ‖RᵀR − I‖ (Frobenius) and |det R − 1| of a ball joint's block R that :func:`closes` accepts as a
+#: rotation: far above the rounding of the chart steps (‖RᵀR − I‖ about 1e-13 after 20,000 retractions),
+#: far below any block that is not a rotation.
+ROTATION_TOLERANCE = 1e-9
+
+
+def rotation_blocks(mechanism, point):
+    """Which SO(3) blocks of `point` are rotations, within :data:`ROTATION_TOLERANCE`.
+
+    Φ's rotation rows ``½ vee(R − Rᵀ)`` do not see the symmetric part of a
+    ball joint's block (``diag(1.5, 1.5, 1)`` gives Φ = 0), so a point of K
+    must have its blocks checked apart: ``‖RᵀR − I‖ ≤ ROTATION_TOLERANCE``
+    (Frobenius) and ``|det R − 1| ≤ ROTATION_TOLERANCE``. Elementwise
+    arithmetic only, so that a stack gives, bit for bit, the answers of its
+    points one at a time. A non-finite block is no rotation.
+
+    Parameters
+    ----------
+    mechanism : Mechanism
+    point : array_like, shape=[..., point_size]
+
+    Returns
+    -------
+    names : tuple of str
+        The joints with an SO(3) factor (ball joints), in order, one per block.
+    rotations : ndarray of bool, shape=[..., len(names)]
+        Whether each joint's block is a rotation.
+    """
     compiled = kinematics_of(mechanism)
     point = _as_points(mechanism, point)
+    ambient = compiled.ambient
+    names, parts = [], []
+    for name, slices in compiled.point_parts.items():
+        for part in slices:
+            if ambient.factors[ambient.point_slices.index(part)] == "SO3":
+                names.append(name)
+                parts.append(part)
+    if not parts:
+        return (), np.ones(point.shape[:-1] + (0,), dtype=bool)
+    blocks = np.stack([point[..., part] for part in parts], axis=-2).reshape(point.shape[:-1] + (len(parts), 3, 3))
+    columns = [blocks[..., :, column] for column in range(3)]  # R's columns, shape=[..., n, 3]
+    gram_error = np.zeros(blocks.shape[:-2])
+    for i in range(3):
+        for j in range(3):
+            entry = (columns[i][..., 0] * columns[j][..., 0] + columns[i][..., 1] * columns[j][..., 1]
+                     + columns[i][..., 2] * columns[j][..., 2]) - (1.0 if i == j else 0.0)
+            gram_error = gram_error + entry * entry
+    first, second, third = columns
+    determinant = (first[..., 0] * (second[..., 1] * third[..., 2] - second[..., 2] * third[..., 1])
+                   - first[..., 1] * (second[..., 0] * third[..., 2] - second[..., 2] * third[..., 0])
+                   + first[..., 2] * (second[..., 0] * third[..., 1] - second[..., 1] * third[..., 0]))
+    rotations = (np.sqrt(gram_error) <= ROTATION_TOLERANCE) & (np.abs(determinant - 1.0) <= ROTATION_TOLERANCE)
+    return tuple(names), rotations
+
+
+def closes(mechanism, point, tolerance=1e-9):
+    """Whether `point` is a point of M: every loop closes and every ball joint's block is a rotation.
+
+    Parameters
+    ----------
+    mechanism : Mechanism
+    point : array_like, shape=[..., point_size]
+    tolerance : float
+        Largest ‖Φ‖ of a closed loop (per loop); ``np.inf`` keeps only the
+        half-turn and rotation tests.
+
+    Returns
+    -------
+    ndarray of bool, shape=[...]
+        True where ‖Φ‖ ≤ `tolerance` for every loop, no loop closes on a
+        half-turn (whose rotation rows vanish too), and every SO(3) block is a
+        rotation within ``ROTATION_TOLERANCE`` = 1e-9 (:func:`rotation_blocks`:
+        Φ cannot see a block's symmetric part). A stack gives the answers of
+        its points one at a time.
+    """
+    compiled = kinematics_of(mechanism)
+    point = _as_points(mechanism, point)
+    rotations = np.all(rotation_blocks(mechanism, point)[1], axis=-1)
     if compiled.space == "planar":
         rows, turns, _ = _planar_closure(compiled, point, 0)
         rows = rows.reshape(point.shape[:-1] + (len(compiled.loops), 3))
-        return np.all(np.linalg.norm(rows, axis=-1) <= tolerance, axis=-1) & turns
+        return np.all(np.linalg.norm(rows, axis=-1) <= tolerance, axis=-1) & turns & rotations
     products = chains.loop_products(compiled, point)
     rows = groups.loop_rows(compiled.space, products, compiled.length)
     return (np.all(np.linalg.norm(rows, axis=-1) <= tolerance, axis=-1)
-            & np.all(groups.is_identity_rotation(compiled.space, products), axis=-1))
+            & np.all(groups.is_identity_rotation(compiled.space, products), axis=-1) & rotations)
 
 
 def link_pose(mechanism, link, point):

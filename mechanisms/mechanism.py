@@ -27,6 +27,8 @@ _BASIS_ARRAYS = 4
 SMALLEST_LENGTH = 1e-9
 #: distances below this fraction of the coordinates are rounding noise (coincident points)
 _ROUNDING = 1e-12
+#: a spread at or below this is no length (no link carries two distinct points)
+_SHORTEST_SPREAD = 1e-12
 #: how many link names a message lists
 _LISTED_LINKS = 12
 #: shortest name (the longer of the two) that a one-character slip can be recognised in
@@ -225,22 +227,19 @@ class Mechanism:
 
     @cached_property
     def _spread(self):
-        """(largest distance between two points carried by one link, largest |coordinate| of a point)."""
-        carried = {link: [] for link in self.graph}
-        for joint in self.joints:
-            if joint.point is not None:
-                for link in joint.links:
-                    carried[link].append(joint.point)
-        if self.end_effector is not None and self.end_effector.point is not None:
-            carried[self.end_effector.link].append(self.end_effector.point)
-        spread, extent = 0.0, 0.0
-        for points in carried.values():
-            if points:
-                extent = max(extent, float(np.max(np.abs(points))))
-        for points in carried.values():
-            if len(points) > 1 and extent > 0:  # distances in units of the extent: no squares underflow to 0
-                spread = max(spread, extent * _diameter(np.asarray(points, dtype=float) / extent))
-        return spread, extent
+        """The spread the characteristic length is taken from: ``(spread, extent)``.
+
+        spread is the largest distance between two points carried by one
+        link, extent the largest |coordinate| of those points. The points are
+        the joints' (they alone describe M); only where no link carries two
+        distinct joint points (a spread of at most 1e-12, e.g. a loop of
+        rails and single pins) is the end-effector point added, as before
+        (so that the length still scales with the unit of length).
+        """
+        joints = _link_spread(self, with_end_effector=False)
+        if joints[0] > _SHORTEST_SPREAD or self.end_effector is None or self.end_effector.point is None:
+            return joints
+        return _link_spread(self, with_end_effector=True)
 
     def _check_scale(self):
         """Refuse a geometry too small for the rank tolerances (points that are not merely coincident)."""
@@ -254,14 +253,27 @@ class Mechanism:
     def characteristic_length(self):
         """A length that makes the constraint rows dimensionless.
 
-        The largest distance between two points carried by one link (the
-        points of the joints on it and the end-effector point): a rigid-body
-        invariant, so it does not change with the home configuration, the base
-        frame or axis signs. 1 when no link carries two distinct points (e.g.
+        The largest distance between two joint points carried by one link
+        (the points of the R, S, U and C joints on it): a rigid-body
+        invariant, so it does not change with the home configuration, the
+        base frame or axis signs, and it scales with the unit of length. It
+        divides Φ's translation rows and is the tangent scale of prismatic
+        coordinates (:func:`mechanisms.kinematics.kinematics_of`), so M's
+        description (DΦ's singular values, the C-space rank and its margin)
+        depends on the joints' geometry only: the end-effector point, which
+        is no part of M, is left out. It is also the default L of the
+        end-effector metric (:func:`classify.metrics.end_effector_metric`)
+        and the default length of the conditioning and Gosselin–Angeles
+        computations, one length for all of them.
+
+        Where no link carries two distinct joint points (a loop of rails and
+        single pins), the end-effector point is counted with them (the
+        largest distance between two points of one link, the end-effector's
+        included); 1 when no link carries two distinct points at all (e.g.
         spherical mechanisms, whose rows carry no length).
         """
         spread = self._spread[0]
-        return spread if spread > 1e-12 else 1.0
+        return spread if spread > _SHORTEST_SPREAD else 1.0
 
     def joint(self, name):
         """The joint called `name` (KeyError naming it if there is none)."""
@@ -269,6 +281,27 @@ class Mechanism:
             if joint.name == name:
                 return joint
         raise KeyError(f"no joint named {name!r} in mechanism {self.name!r}")
+
+
+def _link_spread(mechanism, with_end_effector):
+    """(largest distance between two points carried by one link, largest |coordinate| of a point): the points
+    of the joints, and the end-effector point if `with_end_effector`."""
+    carried = {link: [] for link in mechanism.graph}
+    for joint in mechanism.joints:
+        if joint.point is not None:
+            for link in joint.links:
+                carried[link].append(joint.point)
+    end_effector = mechanism.end_effector
+    if with_end_effector and end_effector is not None and end_effector.point is not None:
+        carried[end_effector.link].append(end_effector.point)
+    spread, extent = 0.0, 0.0
+    for points in carried.values():
+        if points:
+            extent = max(extent, float(np.max(np.abs(points))))
+    for points in carried.values():
+        if len(points) > 1 and extent > 0:  # distances in units of the extent: no squares underflow to 0
+            spread = max(spread, extent * _diameter(np.asarray(points, dtype=float) / extent))
+    return spread, extent
 
 
 def _diameter(points, block=256):
