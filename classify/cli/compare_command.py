@@ -41,8 +41,11 @@ def add_parser(commands):
     parser.add_argument("--samples", type=integer, default=0, metavar="N",
                         help="also compare N configurations sampled over the assembly branches (default 0)")
     parser.add_argument("--path", type=integer, default=0, metavar="N",
-                        help="also compare up to N configurations each way along a curve of M through the home, "
-                             "and the actuator, end-effector and C-space singularities the curve crosses")
+                        help="also compare up to N configurations each way along a curve of M through the home "
+                             "(not continued from a C-space singularity; stopped where a loop closes), and the "
+                             "actuator, end-effector and C-space singularities the curve crosses or touches "
+                             "(from sign changes and dips of the smallest singular value at the configurations "
+                             "and midpoints: a dip narrower than half a step that shows at none can be missed)")
     parser.add_argument("--path-step", type=number, default=None, metavar="H",
                         help="distance between configurations along the --path (joint-coordinate units, "
                              f"default {DEFAULT_PATH_STEP})")
@@ -100,23 +103,41 @@ def _check_relation_variables(arguments, mechanism, model, start, coordinates):
 
 def _path_rows(model, start, count, step, start_label="home"):
     """Labels and points along a path of M through `start` (labelled `start_label`), with the singularities it
-    crosses in place."""
-    from ..paths import path_configurations, singular_crossings
+    crosses or touches in place (:func:`classify.paths.follow_path`, :func:`classify.paths.singular_crossings`)."""
+    from manifold import jacobian_rank
 
-    path, steps = path_configurations(model, start, count, step=step)
-    if len(path) == 1:
-        print(f"--path: M could not be continued from {printable(start_label)} (as at a C-space singularity, "
-              f"where no single curve leaves it): the path is the start alone", file=sys.stderr)
+    from ..paths import NoPathError, follow_path, singular_crossings
+    from ..survey import survey_of
+
+    try:
+        path = follow_path(model, start, count, step=step)
+    except NoPathError:
+        raise InputError(f"--path: no curve of M through {printable(start_label)}: 0 degrees of freedom there "
+                         f"(nothing to follow)") from None
+    if path.reason == "cspace":
+        rank, expected = jacobian_rank(model.manifold, start).rank, survey_of(model).constraint_rank
+        print(f"--path: M could not be continued from {printable(start_label)}: a C-space singularity (rank DΦ "
+              f"{rank} < {expected}), where more than one curve of M may meet and none is singled out; the path is "
+              f"the start alone (start near it, on the branch wanted, e.g. with --at … --project)", file=sys.stderr)
+    elif path.reason is not None:
+        print(f"--path: M could not be continued from {printable(start_label)} (no curve of M leaves it within "
+              f"the step): the path is the start alone", file=sys.stderr)
+    if path.closed:
+        print(f"--path: the path closed on itself (a loop of M) between path{path.steps[-1]:+d} and "
+              f"path{path.steps[0]:+d}; each configuration of the loop is on it once", file=sys.stderr)
     crossings = {}
-    for index, point, kind in singular_crossings(model, path):
-        crossings.setdefault(index, []).append((point, kind))
+    for crossing in singular_crossings(model, path.points, closed=path.closed):
+        crossings.setdefault(crossing.index, []).append(crossing)
     labels, points = [], []
-    for index, (point, step) in enumerate(zip(path, steps)):
+    steps = path.steps
+    for index, (point, step) in enumerate(zip(path.points, steps)):
         labels.append(start_label if step == 0 else f"path{step:+d}")
         points.append(point)
-        for crossing, kind in crossings.get(index, []):  # between this point and the next, named by their steps
-            labels.append(f"crossing {step:+d}…{steps[index + 1]:+d} ({kind.replace('_', '-')})")
-            points.append(crossing)
+        for crossing in crossings.get(index, []):  # between this point and the next, named by their steps
+            name = "touching" if crossing.touching else "crossing"
+            labels.append(f"{name} {step:+d}…{steps[(index + 1) % len(steps)]:+d} "
+                          f"({crossing.kind.replace('_', '-')})")
+            points.append(crossing.point)
     return labels, points
 
 
