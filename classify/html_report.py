@@ -3,8 +3,12 @@
 :func:`html_report` writes the page from the rows of ``closedchain report``
 (:class:`classify.cli.report_command.ReportRow`) and the figures drawn for
 them; every figure is embedded (a PNG as a ``data:`` URI), so the file can be
-mailed or opened anywhere, with no folder beside it. Text from files (names
-of sources and configurations) is escaped.
+mailed or opened anywhere, with no folder beside it. Every text is shown as
+the text outputs and the table's cells show it: non-printable characters
+(control characters, zero-width and bidirectional marks) written as Python
+escapes (:func:`classify.text.printable`; ``\\x1b``), then HTML-escaped, in
+the headings, captions, alt texts and table cells alike; the folded blocks
+(summary, legend, each classification) line by line, their line breaks kept.
 
 Matplotlib is imported only by :func:`figure_png`, when a figure is drawn.
 """
@@ -39,7 +43,7 @@ class Picture:
     Attributes
     ----------
     caption : str
-        Plain text under the figure.
+        Plain text under the figure and its alt text (escaped on the page as the table's cells).
     png : bytes
         The image.
     """
@@ -61,7 +65,15 @@ def figure_png(figure, dpi=80):
 
 
 def _escape(text):
-    return html.escape(str(text), quote=True)
+    """One line of text as HTML: :func:`classify.text.printable` (a newline too is escaped), then HTML-escaped."""
+    from .text import printable
+
+    return html.escape(printable(text), quote=True)
+
+
+def _escape_block(text):
+    """Lines of text as the content of a ``<pre>``: each line escaped as :func:`_escape`, the line breaks kept."""
+    return "\n".join(_escape(line) for line in str(text).split("\n"))
 
 
 def _picture(picture):
@@ -112,9 +124,9 @@ def html_report(rows, pictures=None, title="closedchain report", summary="", leg
              f"<title>{_escape(title)}</title><style>{STYLE}</style></head><body>",
              f"<h1>{_escape(title)}</h1>"]
     if summary:
-        parts.append(f"<pre>{_escape(summary)}</pre>")
+        parts.append(f"<pre>{_escape_block(summary)}</pre>")
     if legend:
-        parts.append(f"<details><summary>Legend</summary><pre>{_escape(legend)}</pre></details>")
+        parts.append(f"<details><summary>Legend</summary><pre>{_escape_block(legend)}</pre></details>")
     parts.append(_table(header, lines, singular))
     sources = list(dict.fromkeys(row.source for row in rows))
     for number, source in enumerate(sources):
@@ -124,7 +136,7 @@ def html_report(rows, pictures=None, title="closedchain report", summary="", leg
             kinds = row.report.label
             parts.append(f"<h3>{_escape(row.name)}: {_escape(kinds)}</h3>")
             parts += [_picture(picture) for picture in pictures.get((source, row.name), ())]
-            parts.append(f"<details><summary>classification</summary><pre>{_escape(row.report.to_text())}</pre>"
+            parts.append(f"<details><summary>classification</summary><pre>{_escape_block(row.report.to_text())}</pre>"
                          "</details>")
     parts.append("</body></html>")
     return "\n".join(parts) + "\n"

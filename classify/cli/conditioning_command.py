@@ -52,6 +52,7 @@ from __future__ import annotations
 
 import math
 
+from ..text import printable
 from ._common import (InputError, check_length_scale, check_output, displacements, dumps, entry_options,
                       file_after_grid, input_files, is_entry, source, write_output)
 
@@ -194,7 +195,7 @@ def run(arguments, out):
         result, maps = _single(mechanism, point, entry, length), None
     result = {"source": arguments.file, "mechanism": mechanism.name, **result}
     if arguments.out is not None:
-        _write(arguments, result, maps)
+        _write(arguments, result, maps, mechanism)
     if arguments.format == "json":
         out.write(dumps(result) + "\n")
     else:
@@ -489,7 +490,7 @@ def _has_orientation(mechanism):
     return bool(np.any(end_effector_metric(mechanism, size) != end_effector_metric(mechanism, 2.0 * size)))
 
 
-def _write(arguments, result, maps):
+def _write(arguments, result, maps, mechanism=None):
     import numpy as np
 
     path = arguments.out
@@ -497,7 +498,7 @@ def _write(arguments, result, maps):
     if suffix in ("png", "svg"):
         if maps is None:
             raise InputError("--out: a figure needs --grid")
-        figure = _figure(maps, arguments.matrix, result)
+        figure = _figure(maps, arguments.matrix, result, mechanism)
         try:
             figure.savefig(path, format=suffix)
         except OSError as error:
@@ -529,8 +530,10 @@ def _write(arguments, result, maps):
         raise InputError(f"--out: expected a .png, .svg, .npz or .json file, got {path[:60]!r}")
 
 
-def _figure(maps, matrix, result):
-    """The figure of --out .png/.svg: 2-D maps with their curves; the hybrid's surfaces of revolution."""
+def _figure(maps, matrix, result, mechanism=None):
+    """The figure of --out .png/.svg: 2-D maps with their curves; the hybrid's surfaces of revolution. A grid of
+    joint coordinates (`mechanism` given) has its axes labelled as displacements from home with their unit
+    (:func:`_joint_axis_names`)."""
     import numpy as np
 
     from ..figures.conditioning import isoconditioning_figure, isoconditioning_surface_figure
@@ -549,12 +552,40 @@ def _figure(maps, matrix, result):
     if len(maps[0].axes) != 2:
         raise InputError(f"--out: a figure needs a grid of two axes, got {len(maps[0].axes)} (write .npz or .json)")
     if result["relation"] == "derived":
+        if (result.get("grid_kind") == "joint" and mechanism is not None
+                and set(maps[0].axis_names) <= set(mechanism.coordinate_names)):
+            from dataclasses import replace
+
+            names = _joint_axis_names(mechanism, maps[0].axis_names)
+            maps = [replace(conditioning_map, axis_names=names) for conditioning_map in maps]
         return isoconditioning_figure(maps, matrix, equal_aspect=result.get("grid_kind") == "cartesian")
     return isoconditioning_figure(maps, matrix, units="mm" if result["mechanism"] == "3-prr" else "")
 
 
+def _joint_axis_names(mechanism, names):
+    """The axis labels of a map over joint coordinates `names`: each a displacement from home with its unit,
+    ``"A − A₀ (rad)"`` for an angle, the mechanism's unit of length for a slide
+    (:func:`classify.figures.loci.axis_labels`).
+
+    Parameters
+    ----------
+    mechanism : Mechanism
+    names : sequence of str
+        Coordinate names of the grid's axes.
+
+    Returns
+    -------
+    tuple of str
+        As the figure's labels are escaped again (:func:`classify.text.drawn`), their dollar signs are not.
+    """
+    from ..figures.loci import axis_labels
+
+    columns = [mechanism.coordinate_names.index(name) for name in names]
+    return tuple(label.replace("\\$", "$") for label in axis_labels(mechanism, columns, units=True))
+
+
 def _text(result):
-    lines = [f"{result['mechanism']} ({result['relation']} relation)"]
+    lines = [f"{printable(result['mechanism'])} ({result['relation']} relation)"]
     length = result["characteristic_length"]
     lines.append(f"characteristic length: {length['value']} ({length['method']})")
     if "kappa" in result:
@@ -566,6 +597,6 @@ def _text(result):
         lines.append(f"isotropic postures found: {len(result['isotropic'])}")
     for entry in result.get("modes", []):
         index = entry["global_index"]
-        lines.append(f"  mode {entry['mode']}: global index of 1/κ({result['matrix']}) = "
+        lines.append(f"  mode {printable(entry['mode'])}: global index of 1/κ({result['matrix']}) = "
                      f"{'n/a' if index is None else f'{index:.4f}'}, unreachable {entry['unreachable_share']:.1%}")
     return "\n".join(lines)

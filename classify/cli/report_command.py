@@ -542,19 +542,21 @@ def _map_tasks(work, tasks, jobs, description):
 def _task_pictures(task, reports, seed=0):
     """The pictures of one task (run in a worker process): ``(source, name) → [Picture]`` for each configuration
     drawn (`reports`: ``(source, name) → Report``), and ``(source, None) → [Picture]`` for the loci of the task's
-    design when it has one to three dof."""
+    design when it has one to three dof. The captions name the source and configuration as the table does
+    (:func:`classify.text.printable`)."""
     from ..model import model_of
     from ..report_pictures import configuration_picture, loci_picture
     from ..survey import survey_of
 
     pictures, configurations = {}, _configurations(task)
+    source = printable(task.source)
     for name, mechanism, point, _ in configurations:
         pictures[task.source, name] = [configuration_picture(mechanism, point, reports[task.source, name],
-                                                             f"{task.source}: {name}")]
+                                                             f"{source}: {printable(name)}")]
     # the loci from the task's first configuration (from a singular one, the grid starts at a regular neighbour)
     name, mechanism, point, _ = configurations[0]
     loci = loci_picture(mechanism, point, survey_of(model_of(mechanism)),
-                        f"{task.source} at {name}: C-space and singularity loci", seed=seed)
+                        f"{source} at {printable(name)}: C-space and singularity loci", seed=seed)
     if loci is not None:
         pictures[task.source, None] = [loci]
     return pictures

@@ -26,6 +26,11 @@ Every artist carries a ``gid`` for the tests and for later pages (the
 gallery, the HTML report): ``link:NAME``, ``ground``, ``guide:JOINT``,
 ``joint:NAME`` (passive), ``actuated:NAME``, ``end-effector``,
 ``lost:KIND`` (one quiver per lost direction), ``sphere``.
+
+The axes are labelled x, y (and z) in the mechanism's unit of length
+(:func:`length_unit`: ``"x (length unit)"`` — a mechanism file states no
+unit, its lengths are in whatever unit it was written in); a spherical
+mechanism's in units of the sphere's radius (``"x (unit sphere)"``).
 """
 
 from __future__ import annotations
@@ -33,12 +38,14 @@ from __future__ import annotations
 import numpy as np
 
 __all__ = ["joint_places", "link_places", "place_velocities", "draw_mechanism", "lost_directions", "save_figure",
-           "ARROW_FRACTION", "KIND_COLOURS"]
+           "length_unit", "ARROW_FRACTION", "KIND_COLOURS", "LENGTH_UNIT"]
 
 #: the longest lost-direction arrow, as a fraction of the characteristic length (planar, spatial) or radius
 ARROW_FRACTION = 0.25
 #: colours of the lost directions, per kind (also used by :mod:`classify.figures.loci`)
 KIND_COLOURS = {"actuator": "tab:red", "end_effector": "tab:blue", "cspace": "tab:purple"}
+#: the unit of length shown on axes when the mechanism names none (a mechanism file states no unit)
+LENGTH_UNIT = "length unit"
 #: finite-difference step of the place velocities (dimensionless tangent coordinates)
 _STEP = 1e-6
 #: a place slower than this fraction of the fastest gets no arrow
@@ -327,8 +334,31 @@ def _arrows(axes, mechanism, point, direction, kind, length, three):
     artist.set_gid(f"lost:{kind}")
 
 
+def length_unit(mechanism):
+    """The unit of length of `mechanism`'s axes: its ``length_unit`` where it names one, else
+    :data:`LENGTH_UNIT` (a mechanism file states no unit: its lengths are in the unit it was written in).
+
+    Parameters
+    ----------
+    mechanism : Mechanism
+
+    Returns
+    -------
+    str
+    """
+    from ..text import drawn
+
+    unit = getattr(mechanism, "length_unit", None)
+    return drawn(unit) if isinstance(unit, str) and unit.strip() else LENGTH_UNIT
+
+
 def _frame(axes, mechanism, point, three, length):
-    """Equal aspect, limits around the drawing."""
+    """Equal aspect, limits around the drawing, axes labelled x, y (, z) with their unit."""
+    unit = "unit sphere" if mechanism.space == "spherical" else length_unit(mechanism)
+    axes.set_xlabel(f"x ({unit})")
+    axes.set_ylabel(f"y ({unit})")
+    if three:
+        axes.set_zlabel(f"z ({unit})")
     if mechanism.space == "spherical":
         axes.set_xlim(-1.1, 1.1), axes.set_ylim(-1.1, 1.1), axes.set_zlim(-1.1, 1.1)
         axes.set_box_aspect((1, 1, 1))

@@ -20,10 +20,17 @@
 
 * :func:`draw_sections`: a 3-dof mechanism's loci as a grid of panels, one
   per section (titled with the section coordinate's value), each the C-space
-  map of that section in two coordinates.
+  map of that section in two coordinates, every panel's axes labelled; one
+  legend for the figure (``figure.legends[0]``, below the panels) names
+  every kind drawn in any panel (a panel may draw nothing).
 
 A 3-dof mechanism's loci drawn by :func:`draw_cspace_map` in three joint
 coordinates are the sections stacked in 3-D axes.
+
+Axes are labelled with the coordinates' names; with ``units=True`` (the HTML report's pictures) with what
+they show and in which unit (:func:`axis_labels`): a joint coordinate as its displacement from home, in rad
+for an angle and in the mechanism's unit of length for a slide (``"A − A₀ (rad)"``); an end-effector's
+coordinates in the unit of length (``"x (length unit)"``, :func:`classify.figures.drawing.length_unit`).
 
 Angles are wrapped to [−π, π); a line is broken where a wrapped angle jumps by more than π (never where
 a length coordinate does).
@@ -33,9 +40,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from .drawing import KIND_COLOURS
+from .drawing import KIND_COLOURS, length_unit
 
-__all__ = ["draw_loci", "draw_cspace_map", "draw_sections", "BRANCH_COLOURS"]
+__all__ = ["draw_loci", "draw_cspace_map", "draw_sections", "axis_labels", "BRANCH_COLOURS"]
 
 #: colours of the branches of a 1-dof C-space map
 BRANCH_COLOURS = ("tab:green", "tab:orange", "tab:cyan", "tab:olive", "tab:pink", "tab:brown")
@@ -76,6 +83,37 @@ def _angle_columns(mechanism, coordinates):
     return np.array([_is_angle(mechanism, column) for column in coordinates], dtype=bool)
 
 
+def axis_labels(mechanism, coordinates, units=False):
+    """The axis labels of loci shown in `coordinates`, known without a point (an empty panel is labelled too).
+
+    Parameters
+    ----------
+    mechanism : Mechanism
+    coordinates : sequence of int or "end-effector"
+        Tangent coordinate columns, or the end-effector point (x, y; z for a spatial mechanism).
+    units : bool
+        Say what each axis shows and in which unit: ``"NAME − NAME₀ (rad)"`` for an angle, ``"NAME − NAME₀
+        (UNIT)"`` for a slide (a displacement from home), ``"x (UNIT)"`` for the end-effector, UNIT the
+        mechanism's unit of length (:func:`classify.figures.drawing.length_unit`). Default: the bare names.
+
+    Returns
+    -------
+    tuple of str
+        Matplotlib text (:func:`classify.text.drawn`: escaped, no mathtext).
+    """
+    from ..text import drawn
+
+    length = length_unit(mechanism)
+    if isinstance(coordinates, str):
+        names = ("x", "y", "z")[: 3 if mechanism.space == "spatial" else 2]
+        return tuple(f"{name} ({length})" if units else name for name in names)
+    labels = []
+    for column, angle in zip(coordinates, _angle_columns(mechanism, coordinates)):
+        name = drawn(mechanism.coordinate_names[column])
+        labels.append(f"{name} − {name}₀ ({'rad' if angle else length})" if units else name)
+    return tuple(labels)
+
+
 def _axes(mechanism, coordinates):
     """New axes for loci shown in `coordinates`: 3-D for three joint coordinates or a spatial end-effector."""
     from matplotlib.figure import Figure
@@ -93,7 +131,7 @@ def _line(axes, values, **style):
     return axes.plot(values[:, 0], values[:, 1], **style)[0]
 
 
-def draw_sections(mechanism, loci, coordinates, title=None, columns=3):
+def draw_sections(mechanism, loci, coordinates, title=None, columns=3, units=False):
     """Draw a 3-dof mechanism's loci section by section, one panel each (see the module notes).
 
     Parameters
@@ -106,10 +144,14 @@ def draw_sections(mechanism, loci, coordinates, title=None, columns=3):
     title : str, optional
     columns : int
         Panels per row.
+    units : bool
+        Label the axes with what they show and their unit (:func:`axis_labels`).
 
     Returns
     -------
     matplotlib.figure.Figure
+        One axes per section (gid ``section:INDEX``), each with its axis labels; one figure legend
+        (``figure.legends``) of every label drawn in any panel, each once.
     """
     from dataclasses import replace
 
@@ -136,16 +178,27 @@ def draw_sections(mechanism, loci, coordinates, title=None, columns=3):
         part = replace(loci, pieces=tuple(piece for piece in loci.pieces if piece.section == value), branches=(),
                        samples=loci.samples[chosen], sample_signs=loci.sample_signs[chosen],
                        sample_branches=None if loci.sample_branches is None else loci.sample_branches[chosen])
-        draw_cspace_map(mechanism, part, coordinates, axes=axes, title=f"{drawn(name)} = {value:.4g}")
-        if axes.get_legend() is not None and index:
+        draw_cspace_map(mechanism, part, coordinates, axes=axes, title=f"{drawn(name)} = {value:.4g}", units=units)
+    handles = {}  # label → the first artist drawn with it, over every panel
+    for axes in figure.axes:
+        if axes.get_legend() is not None:
             axes.get_legend().remove()
+        for handle, label in zip(*axes.get_legend_handles_labels()):
+            handles.setdefault(label, handle)
+    if handles:
+        across_legend = min(3, len(handles))
+        height = 0.22 * -(-len(handles) // across_legend) + 0.75  # inches: the legend's rows and the x labels
+        figure.legend(list(handles.values()), list(handles), loc="lower center", ncol=across_legend,
+                      fontsize="small", frameon=False)
+        figure.subplots_adjust(bottom=min(height / figure.get_figheight(), 0.4))
+    figure.subplots_adjust(wspace=0.4 if units else 0.3)  # room for a panel's y label beside its neighbour
     if title is not None:
         figure.suptitle(title)
         figure.subplots_adjust(top=0.84 if rows == 1 else 0.9, hspace=0.35)
     return figure
 
 
-def draw_loci(mechanism, loci, coordinates, axes=None, title=None):
+def draw_loci(mechanism, loci, coordinates, axes=None, title=None, units=False):
     """Draw the loci (see the module notes).
 
     Parameters
@@ -156,6 +209,8 @@ def draw_loci(mechanism, loci, coordinates, axes=None, title=None):
         As :func:`classify.loci_coordinates.locus_coordinates`.
     axes : matplotlib Axes, optional
     title : str, optional
+    units : bool
+        Label the axes with what they show and their unit (:func:`axis_labels`).
 
     Returns
     -------
@@ -164,11 +219,10 @@ def draw_loci(mechanism, loci, coordinates, axes=None, title=None):
     from ..loci import locus_coordinates
 
     angles = _angle_columns(mechanism, coordinates)
-    names = None
     axes = _axes(mechanism, coordinates) if axes is None else axes
     labelled = set()
     for index, piece in enumerate(loci.pieces):
-        values, names = locus_coordinates(mechanism, piece.points, coordinates)
+        values, _ = locus_coordinates(mechanism, piece.points, coordinates)
         if piece.kind == "cspace":
             _line(axes, values, linestyle="none", marker="X", markersize=11, color="k", zorder=6,
                   gid=f"branch-point:{index}", label=None if "cspace" in labelled else "C-space singularity")
@@ -186,13 +240,11 @@ def draw_loci(mechanism, loci, coordinates, axes=None, title=None):
 
             _line(axes, _broken(values, angles), **style)
         labelled.add(piece.kind + (":whole-branch" if piece.whole_branch else ""))
-    if names is None:
-        _, names = locus_coordinates(mechanism, loci.samples[:1], coordinates) if len(loci.samples) else (None, ())
-    _finish(axes, names, title)
+    _finish(axes, axis_labels(mechanism, coordinates, units), title)
     return axes.figure
 
 
-def draw_cspace_map(mechanism, loci, coordinates, axes=None, title=None):
+def draw_cspace_map(mechanism, loci, coordinates, axes=None, title=None, units=False):
     """Draw M in the chosen coordinates with its branches or modes, the loci overlaid (see the module notes).
 
     Parameters
@@ -202,6 +254,8 @@ def draw_cspace_map(mechanism, loci, coordinates, axes=None, title=None):
     coordinates : sequence of int or "end-effector"
     axes : matplotlib Axes, optional
     title : str, optional
+    units : bool
+        Label the axes with what they show and their unit (:func:`axis_labels`).
 
     Returns
     -------
@@ -233,13 +287,11 @@ def draw_cspace_map(mechanism, loci, coordinates, axes=None, title=None):
                 _line(axes, values[chosen], linestyle="none", marker="s", markersize=6, color=colour,
                       gid=f"mode:{pattern[0]:+d},{pattern[1]:+d}",
                       label=f"det sign: actuator {pattern[0]:+d}, end-effector {pattern[1]:+d}")
-    return draw_loci(mechanism, loci, coordinates, axes=axes, title=title)
+    return draw_loci(mechanism, loci, coordinates, axes=axes, title=title, units=units)
 
 
 def _finish(axes, names, title):
-    from ..text import drawn
-
-    names = tuple(drawn(name) for name in names)
+    """Axis labels (`names`, matplotlib text already), the legend, the title."""
     if len(names) >= 1:
         axes.set_xlabel(names[0])
     if len(names) >= 2:
