@@ -21,8 +21,13 @@ made for anything else is refused, naming the parts that differ:
 
 The survey's numbers are bound to the file by ``checksum``, SHA-256 of every
 other field (canonical JSON), and must be ones a survey of the model can
-have (:func:`read_survey`): a file whose numbers were edited is refused,
-naming the field, rather than deciding verdicts.
+have (:func:`read_survey`): a file whose numbers were edited (and its
+checksum not recomputed) is refused, naming the field, rather than deciding
+verdicts. The checksum is no signature: a file edited *and* given a new
+checksum is refused only where its numbers are impossible (a rank above the
+dof or below the home's, …); ranks lowered to those of a singular home pass.
+A cache is a convenience of the user's own runs, not a file to take from
+elsewhere.
 
 Format (JSON)::
 

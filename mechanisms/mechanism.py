@@ -27,7 +27,8 @@ _BASIS_ARRAYS = 4
 SMALLEST_LENGTH = 1e-9
 #: distances below this fraction of the coordinates are rounding noise (coincident points)
 _ROUNDING = 1e-12
-#: a spread at or below this is no length (no link carries two distinct points)
+#: a spread at or below this, or below _ROUNDING times the coordinates, is no length (no link carries two
+#: distinct points: :func:`_distinct`)
 _SHORTEST_SPREAD = 1e-12
 #: how many link names a message lists
 _LISTED_LINKS = 12
@@ -232,12 +233,12 @@ class Mechanism:
         spread is the largest distance between two points carried by one
         link, extent the largest |coordinate| of those points. The points are
         the joints' (they alone describe M); only where no link carries two
-        distinct joint points (a spread of at most 1e-12, e.g. a loop of
-        rails and single pins) is the end-effector point added, as before
+        distinct joint points (:func:`_distinct`: a spread of rounding, e.g.
+        a loop of rails and single pins) is the end-effector point added, as before
         (so that the length still scales with the unit of length).
         """
         joints = _link_spread(self, with_end_effector=False)
-        if joints[0] > _SHORTEST_SPREAD or self.end_effector is None or self.end_effector.point is None:
+        if _distinct(*joints) or self.end_effector is None or self.end_effector.point is None:
             return joints
         return _link_spread(self, with_end_effector=True)
 
@@ -273,7 +274,7 @@ class Mechanism:
         spherical mechanisms, whose rows carry no length).
         """
         spread = self._spread[0]
-        return spread if spread > _SHORTEST_SPREAD else 1.0
+        return spread if _distinct(*self._spread) else 1.0
 
     def joint(self, name):
         """The joint called `name` (KeyError naming it if there is none)."""
@@ -281,6 +282,13 @@ class Mechanism:
             if joint.name == name:
                 return joint
         raise KeyError(f"no joint named {name!r} in mechanism {self.name!r}")
+
+
+def _distinct(spread, extent):
+    """Whether a spread is a length, not rounding: above :data:`_SHORTEST_SPREAD` and above :data:`_ROUNDING`
+    times the coordinates (the cut of :meth:`Mechanism._check_scale`, which takes such points as coincident:
+    two pins 1e-10 apart at coordinates of 1000 are one point, in any unit of length)."""
+    return spread > max(_SHORTEST_SPREAD, _ROUNDING * extent)
 
 
 def _link_spread(mechanism, with_end_effector):

@@ -100,3 +100,27 @@ def test_joints_too_small_are_refused_whatever_the_end_effector():
         with pytest.raises(MechanismError, match="the geometry is too small"):
             Mechanism(mechanism.name, mechanism.space, joints, mechanism.ground,
                       EndEffector("coupler", point, "position"))
+
+
+def test_two_pins_within_rounding_of_each_other_are_one_point_in_any_unit():
+    """A review found the joints-only length taking two pins 1e-10 apart at coordinates of 1000 (rounding, by
+    the package's own cut 1e-12 × the coordinates) as the length: L = 1e-10 in millimetres and the actuator rank
+    1/1, but L = 0.002 and rank 0/0 in metres. They are one point: the end-effector point gives the length."""
+    from classify import classify
+    from mechanisms import EndEffector, Joint, Mechanism, home
+
+    def slotted(delta, unit):
+        x0 = 1000.0 * unit
+        return Mechanism("slotted", "planar", [
+            Joint("rail1", "P", ("ground", "a"), axis=(1.0, 0.0), actuated=True),
+            Joint("pin", "R", ("a", "b"), point=(x0 + 0.5 * unit, x0 + 0.5 * unit)),
+            Joint("pin2", "R", ("b", "c"), point=(x0 + 0.5 * unit, x0 + 0.5 * unit + delta * unit)),
+            Joint("rail2", "P", ("c", "ground"), axis=(0.6, 0.8)),
+        ], end_effector=EndEffector("a", (x0 + 2.5 * unit, x0 + 0.5 * unit), "position"))
+
+    for delta in (0.0, 1e-10):
+        for unit in (1.0, 1e-3):
+            mechanism = slotted(delta, unit)
+            assert mechanism.characteristic_length == pytest.approx(2.0 * unit, rel=1e-9)
+            report = classify(mechanism, home(mechanism))
+            assert (report.actuator.rank, report.actuator.expected_rank) == (0, 0)
