@@ -29,7 +29,7 @@ from pathlib import Path
 
 from ..text import printable
 from ._common import InputError, MECHANISM_SUFFIXES, closures_option, dumps, entry_options, entry_values, is_entry, \
-    source, warn_if_serial
+    same_file, source, warn_if_serial
 
 __all__ = ["add_parser", "run"]
 
@@ -74,7 +74,7 @@ def run(arguments, out):
     source_files = [Path(arguments.file)] + ([Path(arguments.closures)] if getattr(arguments, "closures", None) else [])
     written = [target] + ([target.with_suffix(".yaml")] if suffix == ".urdf" else [])
     for path in written:
-        if any(_same_file(path, other) for other in source_files):
+        if any(same_file(path, other) for other in source_files):
             raise InputError(f"--write: {printable(str(path))} is an input of this conversion: it would be "
                              f"overwritten (write elsewhere)")
     warn_if_serial(mechanism)  # a URDF with an empty closures file, as `classify` warns of it
@@ -122,14 +122,3 @@ def run(arguments, out):
         out.write(f"imported: {printable(note)}\n")
     out.write(f"wrote {printable(str(target))}: {printable(mechanism.name)}, {len(mechanism.joints)} joints, "
               f"{mechanism.loop_count} loop(s)\n")
-
-
-def _same_file(path, other):
-    """Whether two paths name one existing file (through a symbolic or a hard link too); False for a name no
-    file can have (too long, a NUL byte)."""
-    import os
-
-    try:
-        return os.path.samefile(path, other)
-    except (OSError, ValueError):
-        return False

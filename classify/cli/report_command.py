@@ -26,7 +26,7 @@ from mechanisms import catalogue
 from ..text import printable
 from ._common import (
     IMPORT_SUFFIXES, MECHANISM_SUFFIXES, InputError, check_length_scale, check_output, closures_option,
-    common_options, dumps, import_file, integer, is_entry, path_exists, write_output,
+    common_options, dumps, import_file, integer, is_entry, path_exists, same_file, write_output,
 )
 
 __all__ = ["add_parser", "run", "run_tasks", "report_table", "table_cells", "report_summary", "ReportRow",
@@ -612,7 +612,7 @@ def run(arguments, out):
         if path and (Path(path).is_dir() or not Path(path).resolve().parent.is_dir()):
             raise InputError(f"{option}: cannot write {printable(path)}: "
                              + ("it is a folder" if Path(path).is_dir() else "its folder does not exist"))
-    if arguments.output and arguments.html and Path(arguments.output).resolve() == Path(arguments.html).resolve():
+    if arguments.output and arguments.html and same_file(arguments.output, arguments.html):
         raise InputError(f"--output, --html: one file for both ({printable(arguments.output)}): the page would "
                          "overwrite the text")
     for option, path, suffixes in (("--output", arguments.output, OUTPUT_SUFFIXES),
