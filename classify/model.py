@@ -25,7 +25,7 @@ from mechanisms.joints import joint_coordinate_names
 
 from .metrics import end_effector_metric, weighted_actuator_jacobian
 
-__all__ = ["Model", "model_of", "joint_output_model", "cache_lock"]
+__all__ = ["Model", "model_of", "joint_output_model", "cache_lock", "cached"]
 
 #: per model, the lock of its :attr:`Model.cache` (weakly keyed: a model that is gone takes its lock along; not
 #: a field of the model, which stays picklable)
@@ -53,6 +53,26 @@ def cache_lock(model):
         if lock is None:
             lock = _CACHE_LOCKS[model] = threading.RLock()
         return lock
+
+
+def cached(model, key, compute):
+    """``model.cache[key]``, computed by ``compute()`` the first time, once: under :func:`cache_lock`, a thread
+    asking meanwhile waits for it rather than computing it again.
+
+    Parameters
+    ----------
+    model : Model
+    key : hashable
+    compute : callable
+        ``compute() -> value``.
+    """
+    value = model.cache.get(key)
+    if value is None:
+        with cache_lock(model):
+            value = model.cache.get(key)
+            if value is None:
+                value = model.cache[key] = compute()
+    return value
 
 
 @dataclass(frozen=True, eq=False)
@@ -106,14 +126,8 @@ class Model:
     @property
     def constraint_rows(self):
         """c, the rows of Φ (and of DΦ), from Φ at the first start (kept in :attr:`cache`)."""
-        rows = self.cache.get("constraint_rows")
-        if rows is None:
-            with cache_lock(self):
-                rows = self.cache.get("constraint_rows")
-                if rows is None:
-                    point = np.asarray(self.starts[0], dtype=float)
-                    rows = self.cache["constraint_rows"] = int(np.shape(self.manifold.constraint(point))[-1])
-        return rows
+        return cached(self, "constraint_rows", lambda: int(np.shape(self.manifold.constraint(
+            np.asarray(self.starts[0], dtype=float)))[-1]))
 
 
 def model_of(mechanism, length_scale=None):

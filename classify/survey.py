@@ -22,7 +22,7 @@ import numpy as np
 from manifold import DEFAULT_RTOL, jacobian_rank, numerical_rank, sample_manifold, tangent_basis, tangent_extent
 
 from .metrics import largest_singular_value, metric_root, unit_rows
-from .model import cache_lock
+from .model import cached
 
 __all__ = ["Survey", "survey", "survey_of", "decision_rows", "decision_blocks", "freedom_rows", "stacked", "unit_actuator_rows", "SURVEY_SEED"]
 
@@ -217,14 +217,8 @@ def survey_of(model, rtol=DEFAULT_RTOL):
     -------
     Survey
     """
-    key = ("survey", float(rtol))
-    cached = model.cache.get(key)
-    if cached is None:
-        with cache_lock(model):  # concurrent callers (threads) wait for the one survey rather than repeat it
-            cached = model.cache.get(key)
-            if cached is None:
-                cached = model.cache[key] = survey(model, np.random.default_rng(SURVEY_SEED), rtol=rtol)
-    return cached
+    # concurrent callers (threads) wait for the one survey rather than repeat it
+    return cached(model, ("survey", float(rtol)), lambda: survey(model, np.random.default_rng(SURVEY_SEED), rtol=rtol))
 
 
 def decision_rows(model, point):
@@ -263,15 +257,12 @@ def unit_actuator_rows(model):
     rows : ndarray, shape=[a, k]
     scale : float
     """
-    cached = model.cache.get("unit_actuator_rows")
-    if cached is None:
-        with cache_lock(model):
-            cached = model.cache.get("unit_actuator_rows")
-            if cached is None:
-                scales = model.manifold.ambient.tangent_scales
-                rows = unit_rows(model.actuators, scales)
-                cached = model.cache["unit_actuator_rows"] = (rows, largest_singular_value(rows * scales))
-    return cached
+    def compute():
+        scales = model.manifold.ambient.tangent_scales
+        rows = unit_rows(model.actuators, scales)
+        return rows, largest_singular_value(rows * scales)
+
+    return cached(model, "unit_actuator_rows", compute)
 
 
 def decision_blocks(model, point, basis):
