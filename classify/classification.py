@@ -163,19 +163,26 @@ def classify(mechanism, point, survey=None, rng=None, rtol=DEFAULT_RTOL, length_
     idle = survey.idle_freedoms(dof)
     expected_actuator = dof - idle
     actuator_singular = actuator_decision.rank < expected_actuator
-    actuator_kernel = basis @ _kernel(actuator_block, actuator_decision.rank)
+    expected_end_effector = min(n, dof, survey.end_effector_rank) if n else 0
+    end_effector_singular = bool(n) and end_effector_decision.rank < expected_end_effector
+    # with idle freedoms ker G and ker J contain them: the slice of M transverse to them, and their directions at
+    # p (the limit of the idle kernels at neighbours, classify.second_order.idle_slice), where a kind is singular
+    sliced, idle_directions = None, None
+    if idle and not cspace_singular and (actuator_singular or end_effector_singular):
+        sliced, idle_directions = idle_slice(manifold, point, basis, nearby.local.neighbours,
+                                             lambda q: freedom_rows(model, q), idle, rtol=rtol)
+    actuator_kernel = (_lost(basis, actuator_block, actuator_decision.rank, idle_directions, scales)
+                       if actuator_singular else np.zeros((k, 0)))
     actuator = KindResult(actuator_singular, actuator_decision.rank, expected_actuator, actuator_decision,
-                          actuator_kernel if actuator_singular else np.zeros((k, 0)),
-                          {"on_kernel_of_constraint": True} if cspace_singular else {})
+                          actuator_kernel, {"on_kernel_of_constraint": True} if cspace_singular else {})
 
     # end-effector: J = Df T, decided on H^½ J over σ₁(H^½ Df·diag(s))
     end_effector = None
     if n:
         decision = end_effector_decision
-        expected = min(n, dof, survey.end_effector_rank)
-        singular = decision.rank < expected
-        kernel = basis @ _kernel(end_effector_block, decision.rank) if singular else np.zeros((k, 0))
-        end_effector = KindResult(singular, decision.rank, expected, decision, kernel,
+        kernel = (_lost(basis, end_effector_block, decision.rank, idle_directions, scales)
+                  if end_effector_singular else np.zeros((k, 0)))
+        end_effector = KindResult(end_effector_singular, decision.rank, expected_end_effector, decision, kernel,
                                   {"on_kernel_of_constraint": True} if cspace_singular else {})
 
     # manipulability proper values, where G is definite on T_pM (in the user's units and weights)
@@ -198,8 +205,7 @@ def classify(mechanism, point, survey=None, rng=None, rtol=DEFAULT_RTOL, length_
         unit_actuators = unit_actuator_rows(model)[0]
         tested, tested_basis = manifold, basis
         if idle:
-            tested, _ = idle_slice(manifold, point, basis, nearby.local.neighbours, lambda q: freedom_rows(model, q),
-                                   idle, rtol=rtol)
+            tested = sliced
             if tested is None:
                 notes.append("idle freedoms: no neighbour on M to find their directions; "
                              "the second-order test is not run")
@@ -226,6 +232,19 @@ def classify(mechanism, point, survey=None, rng=None, rtol=DEFAULT_RTOL, length_
         end_effector=end_effector, manipulability=proper, second_order=second,
         idle_freedoms=idle, survey=survey.to_dict(), notes=tuple(notes), moving_idle_freedoms=moving,
     )
+
+
+def _lost(basis, block, rank, idle_directions, scales):
+    """The lost directions of a kind, joint-rate vectors [k, ·]: ker(`block`) on the tangent basis, less the idle
+    freedoms' directions where there are some (dimensionless, [k, ι]: they move neither an actuator nor the
+    end-effector, and are no lost motion), orthonormal for ⟨·,·⟩_s."""
+    kernel = basis @ _kernel(block, rank)
+    if idle_directions is None or not idle_directions.shape[1]:
+        return kernel
+    unit = kernel / scales[:, None]
+    unit = unit - idle_directions @ (idle_directions.T @ unit)
+    count = max(0, kernel.shape[1] - idle_directions.shape[1])
+    return scales[:, None] * np.linalg.svd(unit, full_matrices=False)[0][:, :count]
 
 
 def _kernel_beyond(jacobian, rank, expected):

@@ -346,7 +346,7 @@ class Report:
             shown = _apart(result.decision.tolerance, kept, dropped)
             margin = ", ".join(filter(None, [
                 None if kept is None else f"smallest kept σ = {shown[1]}",
-                None if dropped is None else f"largest dropped σ = {shown[2]}"]))
+                None if dropped is None else f"largest dropped σ = {shown[2]}"])) or "no singular values"
             state = "SINGULAR" if result.singular else "regular"
             where = " on ker DΦ(p)" if result.extra.get("on_kernel_of_constraint") else ""
             lines.append(f"  {label:<13} {state:<9} rank {result.rank}{where} / expected {result.expected_rank}"

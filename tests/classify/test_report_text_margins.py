@@ -41,3 +41,16 @@ def test_printed_values_keep_their_order_with_the_cut(seed):
 def test_small_kept_entries_of_a_direction_are_not_shown_as_zero():
     text = _format_direction({"U2[2]": 3.3e-05, "S2[z]": -0.000297, "J1": 0.707})
     assert text == "U2[2] +3.30e-05, S2[z] -2.97e-04, J1 +0.707"
+
+
+def test_a_kind_without_singular_values_says_so():
+    """A four-bar made a structure (dof 0) printed ``[; cut 1.0e-06]`` for its actuator."""
+    from mechanisms import Joint, Mechanism, home
+
+    triangle = Mechanism("triangle", "planar", [
+        Joint("A", "R", ("ground", "one"), point=(0, 0), actuated=True),
+        Joint("B", "R", ("one", "two"), point=(1, 0)),
+        Joint("C", "R", ("two", "ground"), point=(0, 1))])
+    line = next(line for line in classify(triangle, home(triangle)).to_text().splitlines()
+                if line.strip().startswith("actuator"))
+    assert "[no singular values; cut " in line
