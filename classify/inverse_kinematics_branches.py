@@ -13,13 +13,15 @@ Chablat, Wenger & Angeles 1998 §3.3.
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 
 from .working_modes import WorkingMode
 
 __all__ = ["inverse_kinematics_branches", "mechanism_working_modes", "cartesian_outputs", "output_targets",
-           "follow_working_mode", "BRANCH_TOLERANCE", "BRANCH_SEPARATION", "STEP_JUMP"]
+           "follow_working_mode", "serial_margins", "BranchMode", "BRANCH_TOLERANCE", "BRANCH_SEPARATION",
+           "SERIAL_TOLERANCE", "STEP_JUMP"]
 
 #: ‖Φ‖ and end-effector residual (relative to the characteristic length) of an inverse-kinematics solution
 BRANCH_TOLERANCE = 1e-10
@@ -36,6 +38,14 @@ def _separation(tolerance):
 #: 6e-6 with residuals under 1e-10, whose count of distinct solutions then depended on rounding); a regular root
 #: is found to about 1e-14
 BRANCH_SEPARATION = _separation(BRANCH_TOLERANCE)
+#: serial margin (1/κ of H^½ Df T, :func:`serial_margins`) at or below which a configuration is on a serial
+#: singularity: its sign of det(Df T) is not decided. It is :data:`BRANCH_SEPARATION`: a solution at a double root
+#: is known to about √tolerance along the root's direction, and the margin is linear in that distance (on the
+#: five-bar's folds |PA|, |PB| = L1 ± L2 the solved grid points have margins 1e-10 to 3e-6, of either sign; the
+#: regular points of the docs' grids 0.04 and more)
+SERIAL_TOLERANCE = BRANCH_SEPARATION
+#: dimensionless distances tried, in order, to step off a singular start along the kernel of Df T
+_SIDE_STEPS = (1e-3, 1e-2, 1e-1)
 #: largest dimensionless joint move of one continuation step between neighbouring grid points (a larger one
 #: is taken for a jump to another branch; the sign of det(Df T) is the finer guard, so this only has to stop
 #: the wild ones: 1.5 lets a 12 × 13 grid over the five-bar's workspace cover each mode, 0.5 does not)
@@ -144,6 +154,43 @@ def _with_wrapped_angles(mechanism, point, revolute):
     return from_displacements(mechanism, displacements)
 
 
+def serial_margins(mechanism, points, bases=None):
+    """The serial margin of configurations: 1/κ = σ_s/σ_l of H^½ Df T (H the end-effector metric, L² on the
+    rotation rows of a pose: every row a rate of length; T a tangent basis of M), in [0, 1].
+
+    0 on a serial singularity (an output velocity no motion of M gives: two inverse-kinematics branches meet).
+    It depends neither on the basis T (T → T R with R orthogonal: the singular values of T are those of the
+    dimensionless kernel basis times the tangent scales), nor on the unit of length (L scales with it).
+
+    Parameters
+    ----------
+    mechanism : Mechanism
+    points : array_like, shape=[b, point_size]
+    bases : ndarray, shape=[b, k, m], optional
+        Tangent bases at `points` (:func:`classify.conditioning.tangent_bases` by default).
+
+    Returns
+    -------
+    margins : ndarray, shape=[b]
+    blocks : ndarray, shape=[b, n, m]
+        H^½ Df T.
+    """
+    from mechanisms.kinematics import end_effector_jacobian
+
+    from .conditioning import inverse_condition, tangent_bases
+    from .metrics import metric_root
+    from .model import model_of
+
+    points = np.atleast_2d(np.asarray(points, dtype=float))
+    bases = tangent_bases(mechanism, points) if bases is None else bases
+    metric = metric_root(model_of(mechanism).end_effector_metric)
+    blocks = metric @ end_effector_jacobian(mechanism, points) @ bases
+    if blocks.shape[-1] != blocks.shape[-2]:
+        raise ValueError(f"{mechanism.name}: {blocks.shape[-2]} outputs and {blocks.shape[-1]} degrees of freedom; "
+                         f"a working mode needs as many of each")
+    return np.nan_to_num(inverse_condition(blocks), nan=0.0), blocks
+
+
 def _oriented_output_signs(mechanism, points, reference_bases):
     """Tangent bases T oriented as `reference_bases` (det(Tᵣᵀ S⁻² T) > 0, S the tangent scales; as computed
     where None) and the signs of det(Df T), the working mode's invariant along a path of regular points.
@@ -152,10 +199,11 @@ def _oriented_output_signs(mechanism, points, reference_bases):
     -------
     bases : ndarray, shape=[b, k, m]
     signs : ndarray, shape=[b]
-        ±1; 0 where ``|det(Df T)|`` is at most 1e-12 times the product of the rows' norms (a serial
-        singularity).
+        ±1; 0 where the serial margin (:func:`serial_margins`) is at most :data:`SERIAL_TOLERANCE` (a serial
+        singularity: the sign there is rounding).
+    margins : ndarray, shape=[b]
     """
-    from mechanisms.kinematics import end_effector_jacobian, kinematics_of
+    from mechanisms.kinematics import kinematics_of
 
     from .conditioning import tangent_bases
 
@@ -164,13 +212,71 @@ def _oriented_output_signs(mechanism, points, reference_bases):
         weights = 1.0 / kinematics_of(mechanism).ambient.tangent_scales ** 2
         overlap = np.linalg.det(np.einsum("bkm,k,bkn->bmn", reference_bases, weights, bases))
         bases[:, :, 0] *= np.where(overlap < 0, -1.0, 1.0)[:, None]
-    blocks = end_effector_jacobian(mechanism, points) @ bases
-    if blocks.shape[-1] != blocks.shape[-2]:
-        raise ValueError(f"{mechanism.name}: {blocks.shape[-2]} outputs and {blocks.shape[-1]} degrees of freedom; "
-                         f"a working mode needs as many of each")
-    determinants = np.linalg.det(blocks)
-    size = np.prod(np.linalg.norm(blocks, axis=-1), axis=-1)
-    return bases, np.where(np.abs(determinants) <= 1e-12 * size, 0.0, np.sign(determinants))
+    margins, blocks = serial_margins(mechanism, points, bases)
+    signs = np.where(margins <= SERIAL_TOLERANCE, 0.0, np.sign(np.linalg.det(blocks)))
+    return bases, signs, margins
+
+
+def _project(mechanism, points, iterations=20):
+    """Gauss–Newton on Φ = 0 alone (minimum-norm steps in the dimensionless tangent coordinates): the nearby
+    configurations on M of points just off it."""
+    from mechanisms.kinematics import constraint, constraint_jacobian, kinematics_of
+
+    ambient = kinematics_of(mechanism).ambient
+    scales = ambient.tangent_scales
+    current = np.array(points, dtype=float)
+    for _ in range(iterations):
+        jacobian = constraint_jacobian(mechanism, current) * scales
+        step = np.einsum("bkr,br->bk", np.linalg.pinv(jacobian, rcond=1e-12), -constraint(mechanism, current))
+        current = ambient.retract(current, scales * step)
+    return current
+
+
+def _regular_sides(mechanism, start, tolerance):
+    """Regular configurations next to a singular `start`, one on each side of the serial singularity: `start`
+    moved along ±v (each sign combination of the kernel vectors v of H^½ Df T) by the first of
+    :data:`_SIDE_STEPS` that gives a margin above :data:`SERIAL_TOLERANCE`, then put back on M.
+
+    Returns
+    -------
+    list of ndarray, shape=[point_size]
+        At most 2^corank configurations (fewer where a side stays singular or does not close).
+    """
+    from mechanisms.kinematics import kinematics_of
+
+    from .conditioning import tangent_bases
+
+    ambient = kinematics_of(mechanism).ambient
+    basis = tangent_bases(mechanism, start[None])
+    margins, blocks = serial_margins(mechanism, start[None], basis)
+    _, values, right = np.linalg.svd(blocks[0])
+    kernel = right[values <= SERIAL_TOLERANCE * max(values[0], 1e-300)]
+    if not len(kernel):
+        kernel = right[-1:]
+    combinations = np.array(np.meshgrid(*[(1.0, -1.0)] * len(kernel), indexing="ij")).reshape(len(kernel), -1).T
+    sides = []
+    for combination in combinations:
+        direction = basis[0] @ (combination @ kernel) / math.sqrt(len(kernel))
+        for size in _SIDE_STEPS:
+            moved = _project(mechanism, ambient.retract(start[None], size * direction[None]))
+            if not _closes(mechanism, moved, tolerance)[0]:
+                continue
+            if serial_margins(mechanism, moved)[0][0] > SERIAL_TOLERANCE:
+                sides.append(moved[0])
+                break
+    return sides
+
+
+def _closes(mechanism, points, tolerance):
+    """Which rows close their loops (‖Φ‖ ≤ tolerance, no half-turn), shape=[b]."""
+    from mechanisms.kinematics import closes, constraint
+
+    with np.errstate(invalid="ignore", over="ignore"):
+        closure = np.linalg.norm(constraint(mechanism, points), axis=-1)
+    good = np.isfinite(closure) & (closure <= tolerance)
+    if np.any(good):
+        good[good] = np.asarray(closes(mechanism, points[good], tolerance), dtype=bool)
+    return good
 
 
 def _output_newton(mechanism, current, target, iterations, max_step):
@@ -248,19 +354,48 @@ def _wrapped(differences, revolute):
     return np.where(revolute, (differences + np.pi) % (2 * np.pi) - np.pi, differences)
 
 
+@dataclass(frozen=True)
+class BranchMode(WorkingMode):
+    """A general mechanism's working mode (:class:`~classify.working_modes.WorkingMode`), with its multiplicity.
+
+    Attributes
+    ----------
+    multiplicity : int
+        How many working modes meet at this inverse-kinematics root: 1 at a regular root; at a serial
+        singularity (serial margin ≤ :data:`SERIAL_TOLERANCE`, where :func:`inverse_kinematics_branches`
+        merges the solutions closer than :data:`BRANCH_SEPARATION`) 2 per dimension of the kernel of Df T,
+        2^corank (each a fold, as a stretched or folded leg: 1998 §3.3's two modes meeting).
+    serial_margin : float or None
+        1/κ of H^½ Df T at the root (:func:`serial_margins`).
+    """
+
+    multiplicity: int = 1
+    serial_margin: float | None = None
+
+    def to_dict(self):
+        """As :meth:`WorkingMode.to_dict`, with ``multiplicity`` and ``serial_margin``."""
+        result = super().to_dict()
+        result["multiplicity"] = int(self.multiplicity)
+        if self.serial_margin is not None:
+            result["serial_margin"] = float(self.serial_margin)
+        return result
+
+
 def mechanism_working_modes(mechanism, point, rng=None, count=64, rounds=10):
     """The working modes of a general mechanism at the pose of `point`: its inverse-kinematics branches.
 
     Where B is not diagonal the modes are not sign patterns (:func:`sign_pattern` refuses); they are the
     configurations with the same end-effector value (:func:`inverse_kinematics_branches`), numbered from 1
     by distance from `point` (mode 1 is `point`'s own). Each mode's configuration starts a map on its branch.
+    At a serial singularity two (or more) modes meet in one root, listed once with its multiplicity.
 
     Returns
     -------
-    list of WorkingMode
+    list of BranchMode
         ``angles`` = the actuated coordinates (displacements from home), ``point`` the configuration,
         ``margin`` = 1/κ of the actuator block Λ E^½ Dπ T there (0: an actuator singularity;
-        :func:`classify.conditioning.mechanism_jacobians`); ``signs`` and ``diagonal`` empty.
+        :func:`classify.conditioning.mechanism_jacobians`); ``signs`` and ``diagonal`` empty;
+        ``multiplicity`` and ``serial_margin`` as :class:`BranchMode`.
     """
     from .conditioning import inverse_condition, mechanism_jacobians
 
@@ -271,8 +406,13 @@ def mechanism_working_modes(mechanism, point, rng=None, count=64, rounds=10):
     actuated = [_wrapped(_coordinate_values(mechanism, branch), revolute)[list(mechanism.actuated_coordinates)]
                 for branch in branches]
     margins = inverse_condition(mechanism_jacobians(mechanism, branches)[1])
-    return [WorkingMode(str(index + 1), (), True, (), tuple(float(value) for value in actuated[index]),
-                        branches[index], float(margins[index])) for index in range(len(branches))]
+    serial, blocks = serial_margins(mechanism, branches)
+    values = np.linalg.svd(blocks, compute_uv=False)
+    corank = np.count_nonzero(values <= SERIAL_TOLERANCE * np.maximum(values[:, :1], 1e-300), axis=1)
+    corank = np.where(serial <= SERIAL_TOLERANCE, np.maximum(corank, 1), 0)
+    return [BranchMode(str(index + 1), (), True, (), tuple(float(value) for value in actuated[index]),
+                       branches[index], float(margins[index]), int(2 ** corank[index]), float(serial[index]))
+            for index in range(len(branches))]
 
 
 def _coordinate_values(mechanism, point):
@@ -323,8 +463,18 @@ def cartesian_outputs(mechanism, point, names, axes):
             raise ValueError(f"{mechanism.name}'s output is a position ({', '.join(wanted)}): the Cartesian grid "
                              f"needs exactly those axes")
         return np.stack([by_name[name] for name in wanted], axis=-1)
-    raise ValueError(f"a Cartesian grid needs a position or planar pose output; {mechanism.name}'s is a "
-                     f"{compiled.space} {compiled.output} (grid its joint coordinates instead)")
+    raise ValueError(f"a Cartesian grid needs a position or planar pose output; {_output_phrase(mechanism)} "
+                     f"(grid its joint coordinates instead)")
+
+
+def _output_phrase(mechanism):
+    """``"NAME's output is a spatial pose"``, or ``"NAME has no end-effector"``."""
+    from mechanisms.kinematics import kinematics_of
+
+    compiled = kinematics_of(mechanism)
+    if compiled.output is None:
+        return f"{mechanism.name} has no end-effector"
+    return f"{mechanism.name}'s output is a {compiled.space} {compiled.output}"
 
 
 def output_targets(mechanism, values):
@@ -358,20 +508,30 @@ def output_targets(mechanism, values):
         frames[:, :2, 2], frames[:, 2, 2] = values[:, :2], 1.0
         return frames
     raise ValueError(f"{mechanism.name}: a Cartesian grid needs a position output (x, y[, z]) or a planar pose "
-                     f"(x, y, φ); this end-effector's output is a {compiled.space} {compiled.output}")
+                     f"(x, y, φ); {_output_phrase(mechanism)}")
 
 
 def follow_working_mode(mechanism, start, targets, shape, tolerance=BRANCH_TOLERANCE, iterations=30,
                         max_step=0.25, jump=STEP_JUMP):
     """The configurations reaching a grid of end-effector values in the working mode of `start`, by continuation.
 
-    The grid points nearest f(start) are tried from `start`, nearest first (up to 8), until one is solved
-    (Gauss–Newton on ``Φ = 0, f = f_g``, as :func:`inverse_kinematics_branches`); every other point from an already solved neighbour (one step
-    along one axis), all the points of a front at once. A step is refused when it does not converge, moves
-    the joints more than `jump` (dimensionless: a jump to another branch), or changes the sign of
-    det(Df T) with T a tangent basis carried along the path (oriented as its neighbour's): the step crossed
-    a serial singularity, where the working mode's branch meets another. So a working mode's region ends
-    there (the papers' working modes, 2002 §3.5, 1998 §3.3); points beyond, or unreachable, stay NaN.
+    The grid points nearest f(start) are tried from `start`, nearest first (up to 8), until a regular one is
+    solved (Gauss–Newton on ``Φ = 0, f = f_g``, as :func:`inverse_kinematics_branches`); every other point from
+    an already solved regular neighbour (one step along one axis), all the points of a front at once. A step
+    is refused when it does not converge, moves the joints more than `jump` (dimensionless: a jump to another
+    branch), or changes the sign of det(Df T) with T a tangent basis carried along the path (oriented as its
+    neighbour's): the step crossed a serial singularity, where the working mode's branch meets another. So a
+    working mode's region ends there (the papers' working modes, 2002 §3.5, 1998 §3.3); points beyond, or
+    unreachable, stay NaN.
+
+    A grid point whose serial margin (:func:`serial_margins`) is at most :data:`SERIAL_TOLERANCE` lies on a
+    serial singularity: its sign of det(Df T) is rounding. It is reached (both branches meet there) but never
+    the origin of a step, so its sign is never the reference: every step compares with the sign of a regular
+    point of the mode. A `start` on a serial singularity is a root where several modes meet
+    (:class:`BranchMode`'s multiplicity): the continuation starts from a regular configuration next to it on
+    each side (along ± the kernel of Df T, :data:`_SIDE_STEPS`) and keeps the side that reaches the most grid
+    points (on a tie, the larger sum of serial margins: neither depends on coordinates nor on an SVD's signs);
+    the other side's mode is not mapped.
 
     Parameters
     ----------
@@ -382,6 +542,12 @@ def follow_working_mode(mechanism, start, targets, shape, tolerance=BRANCH_TOLER
         End-effector values (:func:`output_targets`) in C order.
     shape : tuple of int
         The grid's shape (g its product).
+    tolerance : float
+        Of a solution (:func:`inverse_kinematics_branches`).
+    iterations, max_step : int, float
+        Gauss–Newton's.
+    jump : float
+        Largest dimensionless joint move of a step (:data:`STEP_JUMP`).
 
     Returns
     -------
@@ -389,18 +555,37 @@ def follow_working_mode(mechanism, start, targets, shape, tolerance=BRANCH_TOLER
         NaN rows where not reached.
     reached : ndarray of bool, shape=[g]
     """
+    start = np.asarray(start, dtype=float)
+    arguments = (mechanism, targets, shape, tolerance, iterations, max_step, jump)
+    if _oriented_output_signs(mechanism, start[None], None)[1][0] != 0:
+        return _follow(start, *arguments)
+    best, best_key = None, None
+    for side in _regular_sides(mechanism, start, tolerance):
+        points, reached = _follow(side, *arguments)
+        key = (int(reached.sum()), float(np.sum(serial_margins(mechanism, points[reached])[0]))
+               if reached.any() else 0.0)
+        if best_key is None or key > best_key:
+            best, best_key = (points, reached), key
+    if best is None:
+        count = len(np.asarray(targets))
+        return np.full((count, start.size), np.nan), np.zeros(count, dtype=bool)
+    return best
+
+
+def _follow(start, mechanism, targets, shape, tolerance, iterations, max_step, jump):
+    """:func:`follow_working_mode` from a regular `start`."""
     from mechanisms.kinematics import end_effector, end_effector_chart, kinematics_of
 
     from .grid_continuation import grid_neighbours
 
     ambient = kinematics_of(mechanism).ambient
     scales = ambient.tangent_scales
-    start = np.asarray(start, dtype=float)
     targets = np.asarray(targets, dtype=float)
     count = len(targets)
     neighbours = grid_neighbours(tuple(shape))
     points = np.full((count, start.size), np.nan)
     reached = np.zeros(count, dtype=bool)
+    regular = np.zeros(count, dtype=bool)     # reached off a serial singularity: may be the origin of a step
     tried = np.zeros(neighbours.shape, dtype=bool)
     value = end_effector(mechanism, start[None])
     distance = np.linalg.norm(end_effector_chart(mechanism, np.broadcast_to(value, targets.shape), targets), axis=-1)
@@ -415,24 +600,28 @@ def follow_working_mode(mechanism, start, targets, shape, tolerance=BRANCH_TOLER
         new_bases = np.full(origin_bases.shape, np.nan)
         new_signs = np.zeros(len(indices))
         if np.any(good):
-            new_bases[good], new_signs[good] = _oriented_output_signs(mechanism, solved[good], origin_bases[good])
-            good &= new_signs == origin_signs   # det(Df T) changed sign: a serial singularity was crossed
+            new_bases[good], new_signs[good], _ = _oriented_output_signs(mechanism, solved[good],
+                                                                         origin_bases[good])
+            # det(Df T) changed sign: a serial singularity was crossed; 0: on one (reached, not an origin)
+            good &= (new_signs == origin_signs) | (new_signs == 0)
         return solved, good, new_bases, new_signs
 
-    start_basis, start_sign = _oriented_output_signs(mechanism, start[None], None)
+    start_basis, start_sign, _ = _oriented_output_signs(mechanism, start[None], None)
     bases = np.full((count,) + start_basis.shape[1:], np.nan)
-    for first in np.argsort(distance, kind="stable")[:8]:   # the nearest grid points, until one is solved
+    for first in np.argsort(distance, kind="stable")[:8]:   # the nearest grid points, until a regular one is solved
         solved, good, new_bases, new_signs = step(start[None], start_basis, start_sign, np.array([first]))
         if good[0]:
             points[first], reached[first] = solved[0], True
             bases[first], signs[first] = new_bases[0], new_signs[0]
-            break
-    candidates = neighbours[reached].reshape(-1)
+            regular[first] = new_signs[0] != 0
+            if regular[first]:
+                break
+    candidates = neighbours[regular].reshape(-1)
     candidates = np.unique(candidates[candidates >= 0])
     while candidates.size:
         candidates = candidates[~reached[candidates]]
         around = neighbours[candidates]
-        usable = (around >= 0) & reached[np.maximum(around, 0)] & ~tried[candidates]
+        usable = (around >= 0) & regular[np.maximum(around, 0)] & ~tried[candidates]
         keep = usable.any(axis=1)
         candidates, around, usable = candidates[keep], around[keep], usable[keep]
         if not candidates.size:
@@ -444,7 +633,8 @@ def follow_working_mode(mechanism, start, targets, shape, tolerance=BRANCH_TOLER
         won = candidates[good]
         points[won], reached[won] = solved[good], True
         bases[won], signs[won] = new_bases[good], new_signs[good]
-        following = neighbours[won].reshape(-1)
+        regular[won] = new_signs[good] != 0
+        following = neighbours[won[regular[won]]].reshape(-1)
         following = following[following >= 0]
         candidates = np.unique(np.concatenate([candidates[~good], following[~reached[following]]]))
     return points, reached

@@ -255,7 +255,8 @@ def hybrid_plane_map(distances, alongs, signs, mode="", definition="singular_val
     distances, alongs : array_like
         d₁ = iᵀp (eq. 27) and jᵀp.
     signs : tuple of two ±1
-        The five-bar's working mode (signs of sin(θ4 − θ2), sin(θ5 − θ3)).
+        The five-bar's working mode: the signs of sin(θ4 − θ2), sin(θ5 − θ3), the opposites of the signs of
+        B's last two entries (eq. 22b: L1 L2 sin(θ2 − θ4), L1 L2 sin(θ3 − θ5)).
     """
     from .conditioning_matrices import five_bar_inverse_kinematics, hybrid_matrices
 
@@ -285,7 +286,8 @@ def hybrid_map(xs, ys, zs, signs, mode="", definition="singular_value_ratio", ba
     ----------
     xs, ys, zs : array_like, shape=[nx], [ny], [nz]
     signs : tuple of two ±1
-        The five-bar's working mode (signs of sin(θ4 − θ2), sin(θ5 − θ3), B's last two entries).
+        The five-bar's working mode: the signs of sin(θ4 − θ2), sin(θ5 − θ3), the opposites of the signs of
+        B's last two entries (eq. 22b: L1 L2 sin(θ2 − θ4), L1 L2 sin(θ3 − θ5)).
 
     Returns
     -------

@@ -3,8 +3,15 @@
 Chablat, Caro, Wenger & Angeles 2002 Figs. 6-8 (the 3-PRR, positions (x, y)
 in mm); Chablat, Wenger & Angeles 1998 Figs. 3-5 (the five-bar, (x, y) or
 (θ1, θ2)). Axes are labelled in the papers' symbols; the contours are levels
-of 1/κ, the singularity curve is the level 1/κ = 0 (drawn at a small level,
-:data:`SINGULAR_LEVEL`) and the boundary of the reachable region.
+of 1/κ. The singularity curve 1/κ = 0 is the zero level of a signed field,
+det of the matrix mapped (:func:`singularity_field`: the five-bar's and the
+hybrid's maps, from their angles), where the map carries one: 1/κ ≥ 0 has a
+V-shaped zero between grid nodes that no level of it finds (1/κ(Ā) =
+|tan((θ3 − θ4)/2)| of the five-bar, 1998 eq. 9). The small level
+:data:`SINGULAR_LEVEL` of 1/κ is drawn too, for the zeros 1/κ touches
+without a change of sign (towards the boundary of the reachable region) and
+for the maps without a signed field (the 3-PRR's best orientation, a general
+mechanism's map).
 """
 
 from __future__ import annotations
@@ -13,12 +20,48 @@ import numpy as np
 
 from ..text import drawn
 
-__all__ = ["MATRIX_LABELS", "SINGULAR_LEVEL", "isoconditioning_figure", "isoconditioning_surface_figure"]
+__all__ = ["MATRIX_LABELS", "SINGULAR_LEVEL", "singularity_field", "isoconditioning_figure",
+           "isoconditioning_surface_figure"]
 
 #: the papers' names of the matrices
 MATRIX_LABELS = {"A": "Ā", "B": "B", "A-1B": "J̄ = Ā⁻¹B", "B-1A": "K̄ = B⁻¹Ā", "lambda": "λ₁/λₙ (Park & Kim)"}
-#: 1/κ level drawn as the singularity curve
+#: 1/κ level drawn with the singularity curve (where 1/κ touches 0 without a signed field changing sign)
 SINGULAR_LEVEL = 1e-3
+
+
+def singularity_field(conditioning_map, matrix):
+    """A signed field whose zero level is the singularity curve of `matrix` (1/κ = 0), or None.
+
+    det A for Ā, det B for B, det A · det B for J̄, K̄ and λ (singular where either is), from the angles a
+    five-bar or hybrid map carries (``extra["angles"]``, :mod:`classify.conditioning_matrices`). Its sign
+    changes across the parallel-singularity locus θ3 − θ4 = kπ of the five-bar (1998 eq. 9), where 1/κ ≥ 0
+    only touches 0, between grid nodes.
+
+    Parameters
+    ----------
+    conditioning_map : classify.isoconditioning.ConditioningMap
+    matrix : str
+        A key of :data:`MATRIX_LABELS`.
+
+    Returns
+    -------
+    ndarray, shape=grid shape, or None
+        NaN where not reachable; None for a map without angles (the 3-PRR's, a general mechanism's).
+    """
+    from ..conditioning_matrices import five_bar_matrices, hybrid_matrices
+
+    extra = conditioning_map.extra
+    if "angles" not in extra or "design" not in extra:
+        return None
+    design, reachable = extra["design"], conditioning_map.reachable
+    angles = np.where(reachable[..., None], extra["angles"], 0.0)
+    if tuple(conditioning_map.axis_names[:1]) == ("d1",) or "distance" in extra:   # the hybrid's (θ2..θ5)
+        direct, inverse = hybrid_matrices(angles, design["L1"], design["L2"])
+    else:
+        direct, inverse = five_bar_matrices(angles, design["L1"], design["L2"], design.get("L3"), design.get("L4"))
+    determinants = {"A": np.linalg.det(direct), "B": np.linalg.det(inverse)}
+    field = determinants.get(matrix, determinants["A"] * determinants["B"])
+    return np.where(reachable, field, np.nan)
 
 
 def isoconditioning_figure(maps, matrix, levels=(0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9), units="",
@@ -62,6 +105,12 @@ def isoconditioning_figure(maps, matrix, levels=(0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0
                               linewidths=0.7)
         curves.set_gid("isoconditioning")
         axes.clabel(curves, fontsize=6, fmt="%.1f")
+        signed = singularity_field(conditioning_map, matrix)
+        finite = signed[np.isfinite(signed)] if signed is not None else np.zeros(0)
+        if np.any(finite > 0) and np.any(finite < 0):   # a change of sign to draw
+            crossing = axes.contour(grid_first, grid_second, np.ma.masked_invalid(signed), levels=[0.0],
+                                    colors="red", linewidths=1.2)
+            crossing.set_gid("singularity")
         singular = axes.contour(grid_first, grid_second, values, levels=[SINGULAR_LEVEL], colors="red",
                                 linewidths=1.2)
         singular.set_gid("singularity")
