@@ -215,7 +215,7 @@ def classify(mechanism, point, survey=None, rng=None, rtol=DEFAULT_RTOL, length_
                              f"freedom(s) (their directions: the limit of the idle kernels at neighbours on M)")
         if tested is not None:
             second = second_order_test(tested, point, tested_basis, unit_actuators, rng, rtol=rtol,
-                                       scale=actuator_scale)
+                                       scale=actuator_scale, whole=manifold if idle else None)
     if idle:
         notes.append(f"{idle} idle freedom(s): motions that move neither an actuator nor the end-effector")
     moving = min(dof, survey.moving_idle_freedoms)

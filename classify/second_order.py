@@ -374,7 +374,8 @@ def _acceleration_size(manifold, point, basis):
 
 
 def second_order_test(manifold, point, basis, selection, rng, rtol=1e-6, scale=None,
-                      second_order_rtol=SECOND_ORDER_RTOL, length=0.1, step=0.01, max_roots=8, max_order=5):
+                      second_order_rtol=SECOND_ORDER_RTOL, length=0.1, step=0.01, max_roots=8, max_order=5,
+                      whole=None):
     """Classify an actuator singularity as degenerate, nondegenerate or undetermined.
 
     Parameters
@@ -400,10 +401,13 @@ def second_order_test(manifold, point, basis, selection, rng, rtol=1e-6, scale=N
         How many distinct common roots are tried as seeds of the certificate.
     max_order : int
         Highest order of the higher-order test.
-
-    Returns
-    -------
-    SecondOrderResult
+    whole : ImplicitManifold, optional
+        Where `manifold` is a slice of M transverse to idle freedoms (:func:`idle_slice`), M itself: where no
+        walk on the slice's fibre certifies, the roots (tangent to the slice, so transverse to the idle
+        freedoms) are walked on M's fibre too, whose idle orbits the slice's extra rows no longer pin down
+        (there Gauss–Newton converged too slowly at a 6-SPS platform's most singular pose, and the verdict
+        depended on the seed). A curve of M's fibre leaving p̄ along a direction transverse to the idle
+        freedoms is a self-motion beyond them.
 
     Notes
     -----
@@ -440,6 +444,10 @@ def second_order_test(manifold, point, basis, selection, rng, rtol=1e-6, scale=N
             found = _self_motion(manifold, _settled(manifold, nearest), selection, seeds, length, step, offset)
             reason = (f"the fibre of the actuators continues along a common root from the actuator singularity "
                       f"nearest p̄, at distance {offset:.2g} (p̄ is singular only to the first-order cut)")
+    if found is None and whole is not None:
+        found = _self_motion(whole, _settled(whole, point), selection, seeds, length, step)
+        reason = ("the fibre of the actuators continues along a common root transverse to the idle freedoms "
+                  "(walked on M's fibre)")
     if found is not None:
         motion, root = found
         return SecondOrderResult("degenerate", forms, kernel, smallest, tolerance, root, motion, reason)

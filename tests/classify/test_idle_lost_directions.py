@@ -43,3 +43,21 @@ def test_ball_legs_lose_the_directions_of_the_universal_legs(pose):
             bases = [np.linalg.svd(span, full_matrices=False)[0][:, :span.shape[1]] for span in spans]
             cosines = np.linalg.svd(bases[0].T @ bases[1], compute_uv=False)
             np.testing.assert_allclose(cosines, 1.0, atol=1e-6)
+
+
+def test_an_architecture_singular_platform_with_ball_legs_is_degenerate_whatever_the_seed_and_frame():
+    """Gosselin & Angeles 1990 eq. 87 (similar hexagons, legs parallel at the home): a 6-UPS is degenerate for
+    every seed and base frame; with ball legs (six idle spins) the test on the slice transverse to them was
+    undetermined for 3 of 8 seeds and with the base moved (Gauss–Newton converged too slowly on the slice's fibre).
+    The slice's roots are transverse to the idle freedoms, and are now walked on M's fibre as well."""
+    from scipy.spatial.transform import Rotation
+
+    from mechanisms import move_base
+
+    balls = with_ball_legs(gough_stewart(platform_radius=1.0, platform_angle=math.pi / 18, x=0.3, y=-0.2, z=1.0))
+    pose = np.eye(4)
+    pose[:3, :3], pose[:3, 3] = Rotation.from_rotvec([0.4, -0.7, 1.1]).as_matrix(), [3.0, -2.0, 5.0]
+    for mechanism, seed in ((balls, 3), (move_base(balls, pose), 0)):
+        report = classify(mechanism, home(mechanism), rng=np.random.default_rng(seed))
+        assert report.architecture_singular and report.idle_freedoms == 6
+        assert report.degeneracy == "degenerate", (seed, report.second_order.reason)
