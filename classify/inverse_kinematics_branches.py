@@ -41,7 +41,7 @@ BRANCH_SEPARATION = _separation(BRANCH_TOLERANCE)
 #: serial margin (1/κ of H^½ Df T, :func:`serial_margins`) at or below which a configuration is on a serial
 #: singularity: its sign of det(Df T) is not decided. It is :data:`BRANCH_SEPARATION`: a solution at a double root
 #: is known to about √tolerance along the root's direction, and the margin is linear in that distance (on the
-#: five-bar's folds |PA|, |PB| = L1 ± L2 the solved grid points have margins 1e-10 to 3e-6, of either sign; the
+#: five-bar's folds ‖PA‖, ‖PB‖ = L1 ± L2 the solved grid points have margins 1e-10 to 3e-6, of either sign; the
 #: regular points of the docs' grids 0.04 and more)
 SERIAL_TOLERANCE = BRANCH_SEPARATION
 #: dimensionless distances tried, in order, to step off a singular start along the kernel of Df T

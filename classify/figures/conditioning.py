@@ -7,7 +7,7 @@ of 1/κ. The singularity curve 1/κ = 0 is the zero level of a signed field,
 det of the matrix mapped (:func:`singularity_field`: the five-bar's and the
 hybrid's maps, from their angles), where the map carries one: 1/κ ≥ 0 has a
 V-shaped zero between grid nodes that no level of it finds (1/κ(Ā) =
-|tan((θ3 − θ4)/2)| of the five-bar, 1998 eq. 9). The small level
+‖tan((θ3 − θ4)/2)‖ of the five-bar, 1998 eq. 9). The small level
 :data:`SINGULAR_LEVEL` of 1/κ is drawn too, for the zeros 1/κ touches
 without a change of sign (towards the boundary of the reachable region) and
 for the maps without a signed field (the 3-PRR's best orientation, a general
