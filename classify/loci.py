@@ -199,8 +199,11 @@ def trace_loci(mechanism, start, columns=None, ranges=None, counts=(24, 24), kin
         (default :func:`~classify.loci_coordinates.default_columns`). 1 dof: ignored.
     ranges : sequence of (float, float) or None, optional
         2 and 3 dof: the range per coordinate, displacements from home; a None entry (or a missing third) is
-        defaulted: (−π, π) for angles, ±2 characteristic lengths for lengths, around the start's values; a
-        section angle's default is a turn without its end, so its n sections are evenly spaced around it.
+        defaulted around the start's values: (−π, π) for angles, ±½ characteristic length for slides
+        (:data:`~classify.loci_grids.SLIDE_RANGE`); a section's default has the start's value among its n evenly
+        spaced values (:func:`~classify.loci_grids._default_sections`): for an angle a turn without its end (4
+        sections: −π, −π/2, 0, π/2 from the start), for a slide within ±½ characteristic length (4 sections: −½,
+        −¼, 0, ¼ of it).
     counts : (int, int) or (int, int, int)
         Grid points per axis (≥ 2); 3 dof: then the number of sections (default
         :data:`~classify.loci_grids.SECTION_COUNT`).

@@ -17,10 +17,15 @@ import numpy as np
 
 from .loci_coordinates import _is_angle, default_columns
 
-__all__ = ["SECTION_COUNT"]
+__all__ = ["SECTION_COUNT", "SLIDE_RANGE"]
 
 #: sections of a 3-dof locus when the caller gives no count
 SECTION_COUNT = 4
+
+#: a slide's default grid range: this many characteristic lengths either side of the start (a span of one: a
+#: slide's travel is of the order of a link, shorter than the whole mechanism; ±2 put most of a 3-RPR's grid out
+#: of its legs' reach)
+SLIDE_RANGE = 0.5
 
 
 def _section_function(mechanism, column, value):
@@ -35,6 +40,18 @@ def _section_function(mechanism, column, value):
         return (difference + np.pi) % (2 * np.pi) - np.pi if angle else difference
 
     return section
+
+
+def _default_sections(value, half, count, angle):
+    """The default range of `count` sections around the start's `value`: evenly spaced by 2·half / count (an
+    angle: half = π, a turn without its end, the start again) or half / ⌊count / 2⌋ (a slide, within ±half), the
+    start's value the ⌊count / 2⌋-th of them (0-based): 4 sections at −half, −half / 2, 0 and half / 2 from it,
+    5 symmetric about it, 1 at it."""
+    below = count // 2
+    if below == 0:
+        return (value, value)
+    spacing = 2 * half / count if angle else half / below
+    return (value - below * spacing, value + (count - 1 - below) * spacing)
 
 
 def _whole(value):
@@ -75,14 +92,10 @@ def _grid_arguments(mechanism, start, columns, ranges, counts, dof=2):
     values = displacements_of(mechanism, start[None])[0]
     scales = kinematics_of(mechanism).ambient.tangent_scales
     for axis, column in enumerate(columns):
-        if ranges[axis] is not None:
-            continue
-        if _is_angle(mechanism, column):
-            # a turn around the start; sections evenly around it without the turn's end (the start again)
-            last = np.pi - (2 * np.pi / counts[axis] if axis == 2 else 0.0)
-            ranges[axis] = (values[column] - np.pi, values[column] + last)
-        else:
-            ranges[axis] = (values[column] - 2 * scales[column], values[column] + 2 * scales[column])
+        if ranges[axis] is None:
+            half = np.pi if _is_angle(mechanism, column) else SLIDE_RANGE * scales[column]
+            ranges[axis] = (_default_sections(values[column], half, counts[axis], _is_angle(mechanism, column))
+                            if axis == 2 else (values[column] - half, values[column] + half))
     ranges = [tuple(map(float, pair)) for pair in ranges]
     if dof == 3 and counts[2] == 1 and ranges[2][0] != ranges[2][1]:
         raise ValueError(f"one section has one value: its range must be a single value, got {ranges[2]}")

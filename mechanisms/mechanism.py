@@ -451,16 +451,17 @@ def _check_dangling_links(joints, graph, ground, end_effector):
             if link in dangling:
                 _refuse_dangling(joints, f"joint {joint.name!r}: field 'links': item {index}", link,
                                  look_alikes.of(link, used), look_alikes.of(link, dangling), loops,
-                                 lambda: f"(known links: {_known_links(graph, ground, {link})})")
+                                 lambda excluded: f"(known links: {_known_links(graph, ground, excluded)})")
 
 
 def _refuse_dangling(joints, where, link, original, twin, loops, known_links):
     """Raise the message for a dangling link (see :func:`_check_dangling_links`), if it is refused;
-    `known_links()` is the list of links the message ends with."""
+    `known_links(excluded)` is the list of links the message ends with: all of them for two dangling look-alikes
+    (both spellings), else without `link`."""
     alone = "appears in no other joint and is neither the ground nor the end-effector's link"
     if original is None and twin is None and loops == 0:
         return
-    known = known_links()
+    known = known_links(set() if original is None and twin is not None else {link})
     if original is not None:
         raise MechanismError(f"{where}: link {link!r} {alone}: probably a misspelling of {original!r} {known}")
     if twin is not None:

@@ -111,6 +111,25 @@ def _assembled(mechanism, named, at, arguments):
     return reached.point, reached.to_dict()
 
 
+def _refuse_open(mechanism, given):
+    """Refuse a ``--at`` configuration that does not close the loops, with both ways on: ``--assemble`` holds the
+    values given and solves the loops for the other joints, ``--project`` moves the configuration onto M (the
+    values given too) (:func:`mechanisms.configuration` names ``--project`` only)."""
+    import numpy as np
+
+    from mechanisms import CLOSURE_TOLERANCE, from_displacements
+    from mechanisms.kinematics import closes, constraint
+
+    requested = from_displacements(mechanism, given, "--at")
+    if bool(closes(mechanism, requested, CLOSURE_TOLERANCE)):
+        return
+    residual = float(np.linalg.norm(constraint(mechanism, requested)))
+    raise InputError(f"--at: the configuration does not close the loops (|Φ| = {residual:.3g} > "
+                     f"{CLOSURE_TOLERANCE:g}); give closing values, or use --assemble to hold the values given and "
+                     f"solve the loops for the other joints, or --project to move the configuration onto the C-space "
+                     f"(the values given move too)")
+
+
 def run(arguments, out):
     check_length_scale(arguments.length_scale)
     if arguments.batch is not None:
@@ -141,6 +160,8 @@ def _run_single(arguments, out):
     if arguments.assemble:
         point, assembly = _assembled(mechanism, named, at, arguments)
     else:
+        if not arguments.project:
+            _refuse_open(mechanism, {**named, **at})
         projected = configuration(mechanism, {**named, **at}, project_onto=arguments.project, where="--at")
         point, distance = projected.point, projected.distance
     warn_if_serial(mechanism)

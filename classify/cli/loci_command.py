@@ -4,12 +4,14 @@
 (:mod:`classify.loci`).
 
 2 dof: the grid (default the actuated coordinates, 24 points over a turn
-around the starting configuration, or ±2 characteristic lengths) is
+around the starting configuration, or over ± half a characteristic length
+for a slide, :data:`classify.loci_grids.SLIDE_RANGE`) is
 assembled by continuation from the starting configuration (``--configuration``,
 else the home), and the loci through its seeds are followed on M as
 curves. 3 dof: the same in sections at fixed values of a third coordinate
-(``--section``, default the first actuated coordinate at 4 values around a
-turn, or over ±2 characteristic lengths; the grid's default axes are then
+(``--section``, default the first actuated coordinate at 4 values, the
+start's among them: −π, −π/2, 0 and π/2 from it for an angle, −½, −¼, 0 and
+¼ of a characteristic length for a slide; the grid's default axes are then
 the other two actuated coordinates), the grid of every section assembled by
 one continuation, so all sections are on the starting configuration's
 branch. 1 dof: M's branches are followed from sampled points of M and the
@@ -73,10 +75,11 @@ def add_parser(commands):
                         help="which loci: actuator, end_effector, cspace (default all)")
     parser.add_argument("--grid", nargs="+", action="extend", default=None, metavar="NAME=a:b:n",
                         help="2 and 3 dof: the two grid axes the seeds are searched on (default the actuated "
-                             f"coordinates, {DEFAULT_COUNT} points over a turn)")
+                             f"coordinates, {DEFAULT_COUNT} points over a turn, or over ± half a "
+                             "characteristic length for a slide)")
     parser.add_argument("--section", default=None, metavar="NAME=a:b:n",
                         help="3 dof: the coordinate held in each section and its values (default the first "
-                             "actuated coordinate at 4 values around a turn)")
+                             "actuated coordinate at 4 values around the start's, the start's among them)")
     parser.add_argument("--branches", type=integer, default=1, metavar="N",
                         help="2 dof: assemble the grid on up to N assembly branches (the start's, then others found "
                              "by solving the loops from random values at a few grid points; default 1)")
@@ -163,11 +166,27 @@ def _piece(mechanism, piece, coordinates):
 
 
 #: below this share of the grid reached on the start's assembly branch, the text suggests a finer grid or more
-#: branches (a degenerate five-bar's 6 × 6 grid over a turn of each actuator reaches 3 points, its 16 × 16 one 80)
+#: branches (a degenerate five-bar's 6 × 6 grid over a turn of each actuator reaches 3 points, its 16 × 16 one 80),
+#: and, when a grid or section coordinate is a slide, a narrower range (a 3-RPR's grid over ±8.6, twice its
+#: characteristic length, reached 1 point of 2304: its legs are 1.9 long)
 SPARSE_GRID = 0.1
 
 
-def _text(document):
+def _sparse_hint(coverage, slides):
+    """The text's line for a grid whose share of points reached is below :data:`SPARSE_GRID`: `slides` are the
+    grid's and section's slide coordinates (whose range can be wider than the mechanism reaches; an angle's
+    default is a turn)."""
+    finer = "a finer --grid" + (" or --branches 2" if coverage["dof"] == 2 else "")
+    if not slides:
+        return (f"  few grid points are on the start's assembly branch and connected to it at this spacing: {finer} "
+                f"may seed more loci")
+    options = "--grid or --section" if "section" in coverage else "--grid"
+    return (f"  few grid points are on the start's assembly branch and connected to it: the range of "
+            f"{', '.join(printable(name) for name in slides)} may be wider than the mechanism reaches (a narrower "
+            f"{options} range), or at this spacing {finer} may seed more loci")
+
+
+def _text(document, slides=()):
     coverage = document["coverage"]
     lines = [f"loci of {printable(document['mechanism'])} ({coverage['dof']} dof), shown in "
              f"{', '.join(printable(name) for name in document['coordinates'])}"]
@@ -181,8 +200,7 @@ def _text(document):
         lines.append(f"  grid: {grid}{sections}; {coverage['reached']} of {coverage['grid_points']} points "
                      f"reached")
         if "assembly_branches" not in coverage and coverage["reached"] < SPARSE_GRID * coverage["grid_points"]:
-            lines.append("  few grid points are on the start's assembly branch and connected to it at this "
-                         "spacing: a finer --grid or --branches 2 may seed more loci")
+            lines.append(_sparse_hint(coverage, slides))
     if "branches" in coverage:
         closed = sum(coverage["branches_closed"])
         lines.append(f"  branches of M: {coverage['branches']} ({closed} closed), from {coverage['samples']} "
@@ -277,6 +295,11 @@ def run(arguments, out):
     if arguments.format == "json":
         out.write(outputs.json_text(document) + "\n")
     else:
-        out.write(_text(document))
+        from ..loci_coordinates import _is_angle
+
+        names = [*loci.coverage.get("grid", ()), *(name for name, (low, high, _) in loci.coverage.get("section", {})
+                                                   .items() if high > low)]  # a single section has no range
+        out.write(_text(document, [name for name in names
+                                   if not _is_angle(mechanism, mechanism.coordinate_names.index(name))]))
     if arguments.out is not None and arguments.format == "text":
         out.write(f"map written to {printable(arguments.out)}\n")
