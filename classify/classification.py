@@ -35,7 +35,7 @@ from manifold import (
     DEFAULT_RTOL, EXTENT_CUT, check_rtol, local_rank, numerical_rank, scaled_jacobian, tangent_basis, tangent_extent,
 )
 from mechanisms import CLOSURE_TOLERANCE, ConfigurationError, Mechanism
-from mechanisms.kinematics import ROTATION_TOLERANCE, rotation_blocks
+from mechanisms.kinematics import closure_failure
 
 from .metrics import manipulability, moving_directions
 from .model import model_of
@@ -308,15 +308,15 @@ def closure_of(model, point, rows=None):
 
 
 def not_on_m(model, point, residual, what, separator=" is"):
-    """Why `point` is refused: a ball joint's block that is no rotation, named (Φ's rotation rows
-    ``½ vee(R − Rᵀ)`` do not see it: :func:`mechanisms.kinematics.rotation_blocks`), else its residual;
-    ``what`` + ``separator`` start the message."""
+    """Why `point` is refused (:func:`mechanisms.kinematics.closure_failure`): a ball joint's block that is no
+    rotation, named (Φ's rotation rows ``½ vee(R − Rᵀ)`` do not see it), a loop closing only at a half-turn, else
+    its residual; ``what`` + ``separator`` start the message."""
     if model.mechanism is not None:
-        names, rotations = rotation_blocks(model.mechanism, point)
-        wrong = [name for name, rotation in zip(names, np.atleast_1d(rotations)) if not rotation]
-        if wrong:
-            return (f"{what}: the block of ball joint {wrong[0]!r} is not a rotation (‖RᵀR − I‖ or |det R − 1| "
-                    f"above {ROTATION_TOLERANCE:g}): not a point of the C-space")
+        failure = closure_failure(model.mechanism, point, CLOSURE_TOLERANCE)
+        if failure is not None and failure[0] == "rotation":
+            return f"{what}: {failure[1]}: not a point of the C-space"
+        if failure is not None and failure[0] == "half-turn":
+            return f"{what}: {failure[1]}"
     return f"{what}{separator} not on the C-space (|Φ| = {residual:.3g}); project it first"
 
 

@@ -428,15 +428,21 @@ def _dip_crossings(model, chords, which, left, centre, right, rtol, tolerance, m
 
 
 def _segment_of(chords, point, left, right):
-    """The segment (index of its first point) of positions [left, right] nearest `point`."""
-    scales = chords.model.manifold.ambient.tangent_scales
+    """The segment (index of its first point) of positions [left, right] that `point` lies on: the least excess
+    ``‖p − pᵢ‖ + ‖p − pᵢ₊₁‖ − ‖pᵢ₊₁ − pᵢ‖`` (0 on the chord; dimensionless), symmetric in the two ends (the
+    distance to the segments' second ends alone filed a point just after sample j under the segment before j)."""
     segments = sorted({int(np.floor(left)), min(int(np.floor(right)), len(chords.samples) - 2)})
     if len(segments) == 1:
         return segments[0]
     ambient = chords.model.manifold.ambient
-    distance = [np.linalg.norm(ambient.inverse_retract(chords.samples[index + 1].point, point) / scales)
-                for index in segments]
-    return segments[int(np.argmin(distance))]
+    scales = ambient.tangent_scales
+
+    def distance(first, second):
+        return np.linalg.norm(ambient.inverse_retract(first, second) / scales)
+
+    excess = [distance(chords.samples[index].point, point) + distance(point, chords.samples[index + 1].point)
+              - distance(chords.samples[index].point, chords.samples[index + 1].point) for index in segments]
+    return segments[int(np.argmin(excess))]
 
 
 def singular_crossings(model, points, rtol=DEFAULT_RTOL, tolerance=1e-12, max_bisections=80, closed=False):

@@ -17,7 +17,7 @@ from manifold import ProjectionError, project, rotation_exp, rotation_log
 
 from .errors import ConfigurationError, MechanismError
 from .io import check_displacement
-from .kinematics import closes, configuration_space, constraint, kinematics_of
+from .kinematics import closure_failure, configuration_space, kinematics_of
 
 __all__ = [
     "CLOSURE_TOLERANCE", "home", "validate_displacements", "from_displacements",
@@ -144,13 +144,11 @@ def configuration(mechanism, displacements=None, project_onto=False, where="disp
         raise ConfigurationError(f"{where}: expected a mapping of joint names to displacements, got "
                                  f"{type(displacements).__name__}")
     requested = from_displacements(mechanism, displacements or {}, where)
-    if bool(closes(mechanism, requested, CLOSURE_TOLERANCE)):
+    failure = closure_failure(mechanism, requested, CLOSURE_TOLERANCE)
+    if failure is None:
         return Projected(requested, requested, 0.0)
-    residual = float(np.linalg.norm(constraint(mechanism, requested)))
     if not project_onto:
-        raise ConfigurationError(
-            f"{where}: the configuration does not close the loops (|Φ| = {residual:.3g} > "
-            f"{CLOSURE_TOLERANCE:g}); give closing values or use --project")
+        raise ConfigurationError(f"{where}: {failure[1]}; give closing values or use --project")
     manifold = configuration_space(mechanism)
     try:
         point = project(manifold, requested)

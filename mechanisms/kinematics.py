@@ -68,7 +68,7 @@ from .joints import joint_factors
 
 __all__ = [
     "Kinematics", "kinematics_of", "configuration_space",
-    "constraint", "constraint_jacobian", "closure_and_jacobian", "constraint_hessian", "closes",
+    "constraint", "constraint_jacobian", "closure_and_jacobian", "constraint_hessian", "closes", "closure_failure",
     "constraint_pattern", "constraint_jacobian_entries", "constraint_hessian_form",
     "end_effector", "end_effector_jacobian", "end_effector_hessian", "end_effector_chart",
     "end_effector_dimension", "actuator_jacobian", "link_pose", "tool_basis", "loop_origin",
@@ -587,6 +587,37 @@ def closes(mechanism, point, tolerance=1e-9):
     rows = groups.loop_rows(compiled.space, products, compiled.length)
     return (np.all(np.linalg.norm(rows, axis=-1) <= tolerance, axis=-1)
             & np.all(groups.is_identity_rotation(compiled.space, products), axis=-1) & rotations)
+
+
+def closure_failure(mechanism, point, tolerance=1e-9):
+    """Why one point is not a point of M, or None where it is (:func:`closes`).
+
+    Parameters
+    ----------
+    mechanism : Mechanism
+    point : array_like, shape=[point_size]
+    tolerance : float
+
+    Returns
+    -------
+    tuple of (str, str) or None
+        ``(kind, text)``: ``"rotation"`` (a ball joint's block is no rotation, the joint named),
+        ``"half-turn"`` (Φ = 0 at a loop turned by π: a spurious zero of Φ) or ``"residual"`` (‖Φ‖ above
+        `tolerance`), with a phrase saying so.
+    """
+    point = _as_points(mechanism, point)
+    if bool(closes(mechanism, point, tolerance)):
+        return None
+    names, rotations = rotation_blocks(mechanism, point)
+    wrong = [name for name, rotation in zip(names, np.atleast_1d(rotations)) if not rotation]
+    if wrong:
+        return "rotation", (f"the block of ball joint {wrong[0]!r} is not a rotation (‖RᵀR − I‖ or |det R − 1| "
+                            f"above {ROTATION_TOLERANCE:g})")
+    residual = float(np.linalg.norm(constraint(mechanism, point)))
+    if not bool(closes(mechanism, point, np.inf)):
+        return "half-turn", (f"a loop closes only at a half-turn (|Φ| = {residual:.3g}: Φ's rotation rows vanish "
+                             f"there too, a spurious zero of Φ, not a point of the C-space)")
+    return "residual", f"the configuration does not close the loops (|Φ| = {residual:.3g} > {tolerance:g})"
 
 
 def link_pose(mechanism, link, point):

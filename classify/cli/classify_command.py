@@ -115,17 +115,13 @@ def _refuse_open(mechanism, given):
     """Refuse a ``--at`` configuration that does not close the loops, with both ways on: ``--assemble`` holds the
     values given and solves the loops for the other joints, ``--project`` moves the configuration onto M (the
     values given too) (:func:`mechanisms.configuration` names ``--project`` only)."""
-    import numpy as np
-
     from mechanisms import CLOSURE_TOLERANCE, from_displacements
-    from mechanisms.kinematics import closes, constraint
+    from mechanisms.kinematics import closure_failure
 
-    requested = from_displacements(mechanism, given, "--at")
-    if bool(closes(mechanism, requested, CLOSURE_TOLERANCE)):
+    failure = closure_failure(mechanism, from_displacements(mechanism, given, "--at"), CLOSURE_TOLERANCE)
+    if failure is None:
         return
-    residual = float(np.linalg.norm(constraint(mechanism, requested)))
-    raise InputError(f"--at: the configuration does not close the loops (|Φ| = {residual:.3g} > "
-                     f"{CLOSURE_TOLERANCE:g}); give closing values, or use --assemble to hold the values given and "
+    raise InputError(f"--at: {failure[1]}; give closing values, or use --assemble to hold the values given and "
                      f"solve the loops for the other joints, or --project to move the configuration onto the C-space "
                      f"(the values given move too)")
 

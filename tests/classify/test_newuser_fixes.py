@@ -140,3 +140,19 @@ def test_at_that_does_not_close_points_to_assemble(tmp_path):
     status, out, err = run(["classify", str(path), "--at", '{"A": 0.2}', "--assemble", "--format", "json"])
     assert status == 0, err
     assert json.loads(out)["assembly"]["held"] == {"A": 0.2}
+
+
+def test_a_half_turn_is_named_not_called_a_residual_above_the_tolerance(capsys):
+    """A review found ``closedchain classify slider_crank.yaml --at '{"crank": π}'`` refused with "does not
+    close the loops (|Φ| = 1.22e-16 > 1e-09)": the residual below the tolerance it was said to exceed. The loop
+    closes there only at a half-turn (Φ's rotation rows vanish at π too), and the message says so."""
+    import math
+    from pathlib import Path
+
+    from classify.cli import main
+
+    example = str(Path(__file__).resolve().parents[2] / "examples" / "slider_crank.yaml")
+    status = main(["classify", example, "--at", json.dumps({"crank": math.pi})])
+    err = capsys.readouterr().err
+    assert status == 2 and "a loop closes only at a half-turn" in err and "> 1e-09" not in err
+    assert len(err.strip().splitlines()) == 1

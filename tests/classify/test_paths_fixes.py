@@ -174,3 +174,13 @@ def test_a_closed_loop_reports_each_crossing_once(capsys):
     fine = follow_path(model, model.starts[0], 300, step=0.05)
     fine_found = singular_crossings(model, fine.points, closed=fine.closed)
     assert sorted(kind for _, _, kind in fine_found) == sorted(kind for _, _, kind in found)
+
+
+def test_a_touching_point_just_after_a_sample_is_filed_under_the_segment_it_lies_on():
+    """A review found a dip's point just right of sample j filed under the segment before j (the distance to the
+    segments' second ends decided): a touching point at s = 0, samples at s = −0.6, −0.1, 0.4, 0.9."""
+    model = diagonal_model(lambda s: s * s)
+    points = np.array([[s, s] for s in (-0.6, -0.1, 0.4, 0.9)])
+    crossings = singular_crossings(model, points)
+    assert [(crossing.index, crossing.touching) for crossing in crossings] == [(1, True)]
+    assert abs(crossings[0].point[0]) < 1e-6
