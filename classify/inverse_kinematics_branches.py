@@ -217,21 +217,6 @@ def _oriented_output_signs(mechanism, points, reference_bases):
     return bases, signs, margins
 
 
-def _project(mechanism, points, iterations=20):
-    """Gauss–Newton on Φ = 0 alone (minimum-norm steps in the dimensionless tangent coordinates): the nearby
-    configurations on M of points just off it."""
-    from mechanisms.kinematics import constraint, constraint_jacobian, kinematics_of
-
-    ambient = kinematics_of(mechanism).ambient
-    scales = ambient.tangent_scales
-    current = np.array(points, dtype=float)
-    for _ in range(iterations):
-        jacobian = constraint_jacobian(mechanism, current) * scales
-        step = np.einsum("bkr,br->bk", np.linalg.pinv(jacobian, rcond=1e-12), -constraint(mechanism, current))
-        current = ambient.retract(current, scales * step)
-    return current
-
-
 def _regular_sides(mechanism, start, tolerance):
     """Regular configurations next to a singular `start`, one on each side of the serial singularity: `start`
     moved along ±v (each sign combination of the kernel vectors v of H^½ Df T) by the first of
@@ -242,7 +227,8 @@ def _regular_sides(mechanism, start, tolerance):
     list of ndarray, shape=[point_size]
         At most 2^corank configurations (fewer where a side stays singular or does not close).
     """
-    from mechanisms.kinematics import kinematics_of
+    from manifold import project_many
+    from mechanisms.kinematics import configuration_space, kinematics_of
 
     from .conditioning import tangent_bases
 
@@ -258,7 +244,8 @@ def _regular_sides(mechanism, start, tolerance):
     for combination in combinations:
         direction = basis[0] @ (combination @ kernel) / math.sqrt(len(kernel))
         for size in _SIDE_STEPS:
-            moved = _project(mechanism, ambient.retract(start[None], size * direction[None]))
+            moved = project_many(configuration_space(mechanism), ambient.retract(start[None], size * direction[None]))
+            moved = moved[0]
             if not _closes(mechanism, moved, tolerance)[0]:
                 continue
             if serial_margins(mechanism, moved)[0][0] > SERIAL_TOLERANCE:
