@@ -614,7 +614,7 @@ def closure_failure(mechanism, point, tolerance=1e-9):
         return "rotation", (f"the block of ball joint {wrong[0]!r} is not a rotation (‖RᵀR − I‖ or |det R − 1| "
                             f"above {ROTATION_TOLERANCE:g})")
     residual = float(np.linalg.norm(constraint(mechanism, point)))
-    if not bool(closes(mechanism, point, np.inf)):
+    if residual <= tolerance:  # Φ = 0, yet no point of M: a loop turned by π (a loop merely far off is no half-turn)
         return "half-turn", (f"a loop closes only at a half-turn (|Φ| = {residual:.3g}: Φ's rotation rows vanish "
                              f"there too, a spurious zero of Φ, not a point of the C-space)")
     return "residual", f"the configuration does not close the loops (|Φ| = {residual:.3g} > {tolerance:g})"

@@ -156,3 +156,19 @@ def test_a_half_turn_is_named_not_called_a_residual_above_the_tolerance(capsys):
     err = capsys.readouterr().err
     assert status == 2 and "a loop closes only at a half-turn" in err and "> 1e-09" not in err
     assert len(err.strip().splitlines()) == 1
+
+
+def test_a_loop_merely_turned_far_is_no_half_turn():
+    """A review found every non-closing point whose loop turns past about 90° called a half-turn ("Φ's rotation
+    rows vanish there too") with ‖Φ‖ = 0.6: a half-turn is Φ = 0 at a loop turned by π, nothing else."""
+    import math
+    from pathlib import Path
+
+    from mechanisms import from_displacements, load
+    from mechanisms.kinematics import closure_failure
+
+    mechanism = load(str(Path(__file__).resolve().parents[2] / "examples" / "slider_crank.yaml"))
+    for crank in (0.3, 1.6, 2.5, 3.0):
+        kind, text = closure_failure(mechanism, from_displacements(mechanism, {"crank": crank}, "--at"))
+        assert kind == "residual" and "does not close the loops" in text, crank
+    assert closure_failure(mechanism, from_displacements(mechanism, {"crank": math.pi}, "--at"))[0] == "half-turn"
