@@ -81,7 +81,7 @@ def hybrid_loci_empty_first_section():
     from classify.loci import trace_loci
 
     mechanism = catalogue_mechanism("hybrid")
-    loci = trace_loci(mechanism, home(mechanism), counts=(6, 6, 2), kinds=("actuator", "end_effector", "cspace"))
+    loci = trace_loci(mechanism, home(mechanism), counts=(4, 4, 2), kinds=("actuator", "end_effector", "cspace"))
     (name, _), = loci.coverage["section"].items()
     first = loci.coverage["sections"][0]["value"]
     column = mechanism.coordinate_names.index(name)
