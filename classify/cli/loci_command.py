@@ -289,8 +289,8 @@ def run(arguments, out):
 
         title = f"{drawn(mechanism.name)}: singularity loci"
         flat = len(names) <= 2  # a 3-dof mechanism's sections as panels, else stacked in 3-D
-        figure = (draw_sections(mechanism, loci, coordinates, title=title) if dof == 3 and flat
-                  else draw_cspace_map(mechanism, loci, coordinates, title=title))
+        figure = (draw_sections(mechanism, loci, coordinates, title=title, units=True) if dof == 3 and flat
+                  else draw_cspace_map(mechanism, loci, coordinates, title=title, units=True))
         write_figure(figure, arguments.out)
     if arguments.format == "json":
         out.write(outputs.json_text(document) + "\n")

@@ -27,7 +27,8 @@
 A 3-dof mechanism's loci drawn by :func:`draw_cspace_map` in three joint
 coordinates are the sections stacked in 3-D axes.
 
-Axes are labelled with the coordinates' names; with ``units=True`` (the HTML report's pictures) with what
+Axes are labelled with the coordinates' names; with ``units=True`` (the HTML report's pictures and
+``closedchain loci --out``) with what
 they show and in which unit (:func:`axis_labels`): a joint coordinate as its displacement from home, in rad
 for an angle and in the mechanism's unit of length for a slide (``"A − A₀ (rad)"``); an end-effector's
 coordinates in the unit of length (``"x (length unit)"``, :func:`classify.figures.drawing.length_unit`).

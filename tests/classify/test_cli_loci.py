@@ -158,3 +158,16 @@ def test_a_sparse_grid_suggests_a_finer_one_or_more_branches():
     status, out, err = run(["loci", "five-bar", "--configuration", "fig6a_distal_aligned", "--kinds", "actuator"])
     assert status == 0, err
     assert "points reached" in out and "may seed more loci" not in out
+
+
+def test_the_command_labels_its_axes_with_units(monkeypatch, tmp_path):
+    """The report's loci pictures said ``A − A₀ (rad)``; the command's own figure said ``A``."""
+    import classify.cli.draw_command as draw_command
+
+    drawn = []
+    monkeypatch.setattr(draw_command, "write_figure", lambda figure, path: drawn.append(figure))
+    status, _, err = run(["loci", "five-bar", "--grid", "A=-3.1:3.1:7", "B=-3.1:3.1:7", "--format", "json",
+                          "--out", str(tmp_path / "loci.png")])
+    assert status == 0, err
+    axes = drawn[0].axes[0]
+    assert (axes.get_xlabel(), axes.get_ylabel()) == ("A − A₀ (rad)", "B − B₀ (rad)")
