@@ -120,7 +120,11 @@ class Projected:
     distance: float
 
 
-def configuration(mechanism, displacements=None, project_onto=False, where="displacements"):
+#: what the refusal of a configuration that does not close advises by default
+REMEDY = "give closing values or use --project"
+
+
+def configuration(mechanism, displacements=None, project_onto=False, where="displacements", remedy=REMEDY):
     """A closed configuration from displacements, refused or projected if it does not close.
 
     Parameters
@@ -130,6 +134,10 @@ def configuration(mechanism, displacements=None, project_onto=False, where="disp
         Joint name -> displacement; default the home.
     project_onto : bool
         Project onto the C-space (Gauss-Newton) when the loops do not close.
+    where : str
+        What the displacements are, for messages (``--at``).
+    remedy : str
+        What the refusal advises (a command with more ways than ``--project`` says them).
 
     Returns
     -------
@@ -148,7 +156,7 @@ def configuration(mechanism, displacements=None, project_onto=False, where="disp
     if failure is None:
         return Projected(requested, requested, 0.0)
     if not project_onto:
-        raise ConfigurationError(f"{where}: {failure[1]}; give closing values or use --project")
+        raise ConfigurationError(f"{where}: {failure[1]}; {remedy}")
     manifold = configuration_space(mechanism)
     try:
         point = project(manifold, requested)

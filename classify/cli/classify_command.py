@@ -111,21 +111,6 @@ def _assembled(mechanism, named, at, arguments):
     return reached.point, reached.to_dict()
 
 
-def _refuse_open(mechanism, given):
-    """Refuse a ``--at`` configuration that does not close the loops, with both ways on: ``--assemble`` holds the
-    values given and solves the loops for the other joints, ``--project`` moves the configuration onto M (the
-    values given too) (:func:`mechanisms.configuration` names ``--project`` only)."""
-    from mechanisms import CLOSURE_TOLERANCE, from_displacements
-    from mechanisms.kinematics import closure_failure
-
-    failure = closure_failure(mechanism, from_displacements(mechanism, given, "--at"), CLOSURE_TOLERANCE)
-    if failure is None:
-        return
-    raise InputError(f"--at: {failure[1]}; give closing values, or use --assemble to hold the values given and "
-                     f"solve the loops for the other joints, or --project to move the configuration onto the C-space "
-                     f"(the values given move too)")
-
-
 def run(arguments, out):
     check_length_scale(arguments.length_scale)
     if arguments.batch is not None:
@@ -156,9 +141,10 @@ def _run_single(arguments, out):
     if arguments.assemble:
         point, assembly = _assembled(mechanism, named, at, arguments)
     else:
-        if not arguments.project:
-            _refuse_open(mechanism, {**named, **at})
-        projected = configuration(mechanism, {**named, **at}, project_onto=arguments.project, where="--at")
+        projected = configuration(mechanism, {**named, **at}, project_onto=arguments.project, where="--at",
+                                  remedy="give closing values, or use --assemble to hold the values given and solve "
+                                         "the loops for the other joints, or --project to move the configuration onto "
+                                         "the C-space (the values given move too)")
         point, distance = projected.point, projected.distance
     warn_if_serial(mechanism)
     survey = None if arguments.survey is None else model_survey(arguments.survey,
