@@ -33,8 +33,7 @@ from typing import Optional
 import numpy as np
 
 from manifold import (
-    DEFAULT_RTOL, ProjectionError, continue_curve, jacobian_rank, numerical_rank, project, scaled_jacobian,
-    tangent_basis,
+    DEFAULT_RTOL, ProjectionError, continue_curve, numerical_rank, project, scaled_jacobian, tangent_basis,
 )
 
 from .metrics import metric_root
@@ -145,10 +144,10 @@ def follow_path(model, point, count, step=0.05, direction=None, rtol=DEFAULT_RTO
     point = np.asarray(point, dtype=float)
     alone = point[None], np.zeros(1, dtype=int)
     if direction is None:
-        basis = tangent_basis(manifold, point, rtol=rtol)[0]
+        basis, decision = tangent_basis(manifold, point, rtol=rtol)
         if basis.shape[1] == 0:
             raise NoPathError("no curve of M through the start: 0 degrees of freedom there (M is isolated points)")
-        if jacobian_rank(manifold, point, rtol=rtol).rank < survey_of(model, rtol).constraint_rank:
+        if decision.rank < survey_of(model, rtol).constraint_rank:
             return Path(*alone, reason="cspace")
         direction = basis[:, 0]
     sides = [_side(manifold, point, sign * direction, count, step) for sign in (-1.0, 1.0)]
