@@ -244,8 +244,8 @@ def _regular_sides(mechanism, start, tolerance):
     for combination in combinations:
         direction = basis[0] @ (combination @ kernel) / math.sqrt(len(kernel))
         for size in _SIDE_STEPS:
-            moved = project_many(configuration_space(mechanism), ambient.retract(start[None], size * direction[None]))
-            moved = moved[0]
+            guess = ambient.retract(start[None], size * direction[None])
+            moved, _ = project_many(configuration_space(mechanism), guess)   # closure checked below
             if not _closes(mechanism, moved, tolerance)[0]:
                 continue
             if serial_margins(mechanism, moved)[0][0] > SERIAL_TOLERANCE:
