@@ -55,8 +55,8 @@ from .model import model_of
 from .report import KINDS
 
 __all__ = [
-    "DESIGN_LIMIT", "DesignGrid", "Sweep", "design_grid", "design_rng", "sweep_design", "sweep_chunk", "sweep",
-    "chunk_size", "flat_row", "local_cluster", "COLUMN_GROUPS", "QUIET_WORKER_SETTINGS",
+    "DESIGN_LIMIT", "DesignGrid", "Sweep", "design_grid", "design_rng", "design_mechanism", "sweep_design",
+    "sweep_chunk", "sweep", "chunk_size", "flat_row", "local_cluster", "COLUMN_GROUPS", "QUIET_WORKER_SETTINGS",
 ]
 
 #: most designs one sweep may hold (the product of the axis lengths)
@@ -264,6 +264,28 @@ def _one_line(error):
     return " ".join((str(error).strip() or type(error).__name__).split())
 
 
+def design_mechanism(entry, parameters):
+    """One design's mechanism, built as :func:`sweep_design` builds it, or why it cannot be.
+
+    Parameters
+    ----------
+    entry : mechanisms.catalogue.Entry
+    parameters : dict
+        The design's parameters (:meth:`DesignGrid.parameters`).
+
+    Returns
+    -------
+    mechanism : Mechanism or None
+    error : str or None
+        One line starting ``cannot be built`` where the design cannot be built, else None.
+    """
+    try:
+        return entry.assemble(entry.values(**parameters)), None
+    except (ValueError, ArithmeticError, np.linalg.LinAlgError) as error:  # MechanismError included
+        text = _one_line(error)  # Entry.assemble names the parameters and says "cannot be built"
+        return None, text if "cannot be built" in text else f"cannot be built: {text}"
+
+
 def sweep_design(entry, parameters, samples, seed, index=0):
     """Build one design, sample its C-space and classify the samples: one row of a sweep.
 
@@ -310,11 +332,9 @@ def sweep_design(entry, parameters, samples, seed, index=0):
 
     if isinstance(entry, str):
         entry = catalogue.entry(entry)
-    try:
-        mechanism = entry.assemble(entry.values(**parameters))
-    except (ValueError, ArithmeticError, np.linalg.LinAlgError) as error:  # MechanismError included
-        text = _one_line(error)  # Entry.assemble names the parameters and says "cannot be built"
-        return _row(index, parameters, error=text if "cannot be built" in text else f"cannot be built: {text}")
+    mechanism, error = design_mechanism(entry, parameters)
+    if error is not None:
+        return _row(index, parameters, error=error)
     try:
         model = model_of(mechanism)
         points = sample_configurations(model, int(samples), design_rng(seed, index))

@@ -123,8 +123,8 @@ def _pyarrow():
 def _check_buildable(entry, grid):
     """Refuse a sweep none of whose designs can be built, before it starts (no cluster, no "sweeping" line).
 
-    The designs are built in order (:meth:`mechanisms.catalogue.Entry.assemble`, as
-    :func:`classify.sweep.sweep_design` builds them) until one builds, at most :data:`BUILD_CHECKS` of them.
+    The designs are built in order (:func:`classify.sweep.design_mechanism`, as :func:`classify.sweep.sweep_design`
+    builds them) until one builds, at most :data:`BUILD_CHECKS` of them.
 
     Raises
     ------
@@ -132,22 +132,19 @@ def _check_buildable(entry, grid):
         ``--param: no design of the sweep can be built (design 0: …)``, with a hint for a parameter that is not
         a number given as ``a:b:n`` (fixed at that text, not swept).
     """
-    import numpy as np
+    from ..sweep import design_mechanism
 
     first = None
     for index in range(min(len(grid), BUILD_CHECKS)):
-        try:
-            entry.assemble(entry.values(**grid.parameters(index)))
+        _, error = design_mechanism(entry, grid.parameters(index))
+        if error is None:
             return
-        except (ValueError, ArithmeticError, np.linalg.LinAlgError) as error:  # MechanismError included
-            first = error if first is None else first
+        first = error if first is None else first
     if first is None or len(grid) > BUILD_CHECKS:
         return
-    text = " ".join((str(first).strip() or type(first).__name__).split())
-    text = text if "cannot be built" in text else f"cannot be built: {text}"
     hints = [f"; {name}={value} is not swept: a:b:n sweeps number parameters only" for name, value in grid.fixed
              if isinstance(value, str) and len(value.split(":")) == 3]
-    raise InputError(f"--param: no design of the sweep can be built (design 0: {text}){''.join(hints[:1])}")
+    raise InputError(f"--param: no design of the sweep can be built (design 0: {first}){''.join(hints[:1])}")
 
 
 # ----------------------------------------------------------------------------- where the chunks run
