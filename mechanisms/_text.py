@@ -287,8 +287,30 @@ class _Loader(yaml.composer.Composer, _Parser, yaml.constructor.SafeConstructor,
         return super().construct_mapping(node, deep=deep)
 
 
-def _construct_int(loader, node):
+#: the text each core-schema tag reads, whether the tag is implicit or written (``!!bool yes`` is no boolean of
+#: YAML 1.2, ``!!int '١'`` no integer in ASCII digits, ``!!float '1_0'`` no decimal)
+_CORE_TEXT = {tag: (re.compile(pattern), what) for (tag, _, pattern), what in
+              zip(_CORE_RESOLVERS, ("a boolean (true or false)", "an integer (ASCII digits, or 0o/0x)",
+                                    "a number (plain decimal, .inf or .nan)"))}
+
+
+def _core_text(loader, node):
+    """The scalar text of `node`, refused unless the YAML 1.2 core schema reads it as the node's type."""
     text = loader.construct_scalar(node)
+    pattern, what = _CORE_TEXT[node.tag]
+    if not isinstance(text, str) or pattern.fullmatch(text) is None:
+        shown = "!!" + node.tag[len(_YAML_PREFIX):]
+        raise yaml.constructor.ConstructorError(
+            None, None, f"{shown} {_describe(text)} is not {what} of the YAML 1.2 core schema", node.start_mark)
+    return text
+
+
+def _construct_bool(loader, node):
+    return _core_text(loader, node).lower() == "true"
+
+
+def _construct_int(loader, node):
+    text = _core_text(loader, node)
     if len(text) > DIGITS_LIMIT:
         raise yaml.constructor.ConstructorError(
             None, None, f"an integer of {len(text)} digits is out of range (at most {DIGITS_LIMIT})",
@@ -301,7 +323,7 @@ def _construct_int(loader, node):
 
 
 def _construct_float(loader, node):
-    text = loader.construct_scalar(node)
+    text = _core_text(loader, node)
     lowered = text.lower()
     if lowered.endswith(".inf"):
         return -math.inf if text.startswith("-") else math.inf
@@ -319,12 +341,24 @@ _Loader.yaml_implicit_resolvers = {
                            "tag:yaml.org,2002:value")]
     for first, resolvers in yaml.SafeLoader.yaml_implicit_resolvers.items()
 }
+_Loader.add_constructor(_BOOL_TAG, _construct_bool)
 _Loader.add_constructor(_INT_TAG, _construct_int)
 _Loader.add_constructor(_FLOAT_TAG, _construct_float)
 
 
 class _Dumper(yaml.SafeDumper):
-    """``yaml.SafeDumper`` that quotes every string YAML 1.1 *or* 1.2 would read as non-string."""
+    """``yaml.SafeDumper`` that quotes every string YAML 1.1 *or* 1.2 would read as non-string, and writes a
+    string holding one of Unicode's line breaks other than ``\\n`` (NEL U+0085, U+2028, U+2029) double-quoted,
+    escaped: in a plain or single-quoted scalar PyYAML writes them raw, and a reader folds them into spaces."""
+
+    def represent_str(self, data):
+        if any(character in data for character in _OTHER_LINE_BREAKS):
+            return self.represent_scalar("tag:yaml.org,2002:str", data, style='"')
+        return super().represent_str(data)
+
+
+_OTHER_LINE_BREAKS = "\x85\u2028\u2029"
+_Dumper.add_representer(str, _Dumper.represent_str)
 
 
 for _tag, _first, _pattern in _CORE_RESOLVERS:

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import re
+import unicodedata
 from dataclasses import dataclass, field
 from functools import cached_property
 from typing import Optional
@@ -158,6 +159,7 @@ class Mechanism:
                 raise MechanismError(f"joint {joint.name!r}: field 'name': duplicate joint name")
             seen.add(joint.name)
         _check_coordinate_names(joints)
+        _check_unicode_forms(joints)
         graph = nx.MultiGraph()
         for joint in joints:
             graph.add_edge(*joint.links, key=joint.name, joint=joint)
@@ -426,6 +428,23 @@ def _check_coordinate_names(joints):
             raise MechanismError(f"joint {named.name!r}: field 'name': {coordinate!r} is also the name of a "
                                  f"coordinate of joint {other.name!r} (coordinates are named after their joint: "
                                  f"rename one of the joints)")
+
+
+def _check_unicode_forms(joints):
+    """Refuse two joint names, or two link names, that are one text in two Unicode forms (``é`` as one character
+    and as ``e`` with a combining accent, U+0301): they print alike but are different names, so a loop would open
+    without a word. Nothing is normalised: the user writes them alike."""
+    joint_names, link_names = {}, {}
+    for joint in joints:
+        named = ((joint_names, joint.name, "field 'name'", "joint"),
+                 *((link_names, link, f"field 'links': item {index}", "link") for index, link in enumerate(joint.links)))
+        for names, name, field_name, what in named:
+            other, owner = names.setdefault(unicodedata.normalize("NFC", name), (name, joint.name))
+            if other != name:
+                where = "" if what == "joint" else f" (joint {owner!r})"
+                raise MechanismError(f"joint {joint.name!r}: {field_name}: {what} name {ascii(name)} and "
+                                     f"{ascii(other)}{where} are one text in two Unicode forms: they print alike "
+                                     f"but are different names; write them alike")
 
 
 def _check_dangling_links(joints, graph, ground, end_effector):

@@ -358,10 +358,32 @@ def _source(arguments):
     return document.mechanism, document.configurations[arguments.configuration]
 
 
+def configuration_options(arguments, at):
+    """The options that gave a configuration, to start a message about it: ``--configuration NAME``, ``--at`` or
+    ``--configuration NAME with --at`` (a named configuration of a file may not close: the message names it, not an
+    ``--at`` that was not given)."""
+    named = getattr(arguments, "configuration", None)
+    given = ([f"--configuration {printable(named)}"] if named is not None else []) + (["--at"] if at else [])
+    return " with ".join(given) or "--at"
+
+
 def warn_if_serial(mechanism):
-    """A warning on stderr for a mechanism without loops (e.g. a URDF read without its --closures)."""
+    """A warning on stderr for a mechanism without loops (e.g. a URDF read without its --closures), naming its free
+    end links: two that differ in a digit (``distal2``, ``distal3``) may be one misspelt name that opened a loop."""
     if mechanism.loop_count == 0:
-        print(f"closedchain: warning: {printable(mechanism.name)} has no loop (a serial chain)", file=sys.stderr)
+        joints_of = {}
+        for joint in mechanism.joints:
+            for link in joint.links:
+                joints_of.setdefault(link, []).append(joint.name)
+        ends = [f"{printable(link)} (joint {printable(names[0])})" for link, names in joints_of.items()
+                if len(names) == 1 and link != mechanism.ground]
+        shown = ", ".join(ends[:_LISTED_ENDS]) + (", ..." if len(ends) > _LISTED_ENDS else "")
+        print(f"closedchain: warning: {printable(mechanism.name)} has no loop (a serial chain; free end "
+              f"link{'s' if len(ends) > 1 else ''}: {shown})", file=sys.stderr)
+
+
+#: most free end links a warning names
+_LISTED_ENDS = 6
 
 
 def joint_list(text, where):

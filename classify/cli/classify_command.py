@@ -24,8 +24,8 @@ from __future__ import annotations
 from ..progress import show_progress
 from ..text import printable
 from ._common import (
-    InputError, check_length_scale, check_output, closures_option, common_options, displacements, dumps,
-    entry_options, entry_values, input_files, integer, is_entry, source, survey_option, threads_option,
+    InputError, check_length_scale, check_output, closures_option, common_options, configuration_options, displacements,
+    dumps, entry_options, entry_values, input_files, integer, is_entry, source, survey_option, threads_option,
     warn_if_serial,
 )
 
@@ -141,7 +141,7 @@ def _run_single(arguments, out):
     if arguments.assemble:
         point, assembly = _assembled(mechanism, named, at, arguments)
     else:
-        projected = configuration(mechanism, {**named, **at}, project_onto=arguments.project, where="--at",
+        projected = configuration(mechanism, {**named, **at}, project_onto=arguments.project, where=configuration_options(arguments, at),
                                   remedy="give closing values, or use --assemble to hold the values given and solve "
                                          "the loops for the other joints, or --project to move the configuration onto "
                                          "the C-space (the values given move too)")

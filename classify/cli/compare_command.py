@@ -9,8 +9,8 @@ from dataclasses import replace
 
 from ..text import printable
 from ._common import (
-    InputError, check_count, check_length_scale, check_path_step, closures_option, common_options, displacements,
-    dumps, entry_options, integer, is_entry, joint_list, number, source,
+    InputError, check_count, check_length_scale, check_path_step, closures_option, common_options,
+    configuration_options, displacements, dumps, entry_options, integer, is_entry, joint_list, number, source,
 )
 
 __all__ = ["add_parser", "run"]
@@ -176,9 +176,10 @@ def run(arguments, out):
         model = model_of(mechanism, arguments.length_scale)
     if not len(model.actuators):
         raise InputError(f"--inputs: {mechanism.name!r} has no actuated joint; name the input joints")
-    start = configuration(mechanism, named, where="--configuration").point
-    given = [configuration(mechanism, {**named, **displacements(text)}, project_onto=arguments.project,
-                           where="--at").point for text in arguments.at]
+    start = configuration(mechanism, named, where=configuration_options(arguments, {})).point
+    given = [configuration(mechanism, {**named, **at}, project_onto=arguments.project,
+                           where=configuration_options(arguments, at)).point
+             for at in map(displacements, arguments.at)]
     rng = np.random.default_rng(arguments.seed)
     model = replace(model, starts=np.stack([start, *given]))
     start_label = "home" if arguments.configuration is None else arguments.configuration

@@ -53,8 +53,8 @@ from __future__ import annotations
 import math
 
 from ..text import printable
-from ._common import (InputError, check_length_scale, check_output, displacements, dumps, entry_options,
-                      file_after_grid, input_files, is_entry, source, write_output)
+from ._common import (InputError, check_length_scale, check_output, configuration_options, displacements, dumps,
+                      entry_options, file_after_grid, input_files, is_entry, source, write_output)
 
 __all__ = ["add_parser", "run"]
 
@@ -181,7 +181,7 @@ def run(arguments, out):
     if arguments.grid is None and arguments.mode != "all":
         raise InputError("--mode: applies to the maps of --grid")
     at = displacements(arguments.at)
-    point = configuration(mechanism, {**named, **at}, where="--at").point
+    point = configuration(mechanism, {**named, **at}, where=configuration_options(arguments, at)).point
     entry = _source_entry(arguments)
     if entry == "3-prr-inputs":
         entry = "3-prr"

@@ -17,8 +17,8 @@ ones on 3-D axes. Prints one line, the file written and the kinds found
 from __future__ import annotations
 
 from ..text import drawn, printable
-from ._common import (InputError, check_output, closures_option, common_options, displacements, dumps, entry_options,
-                      input_files, source)
+from ._common import (InputError, check_output, closures_option, common_options, configuration_options, displacements,
+                      dumps, entry_options, input_files, source)
 
 __all__ = ["add_parser", "run", "FIGURE_SUFFIXES", "KIND_NAMES", "TITLE_LIMIT"]
 
@@ -128,7 +128,7 @@ def run(arguments, out):
         check_title(arguments.title)
     mechanism, named = source(arguments)
     at = displacements(arguments.at)
-    point = configuration(mechanism, {**named, **at}, project_onto=arguments.project, where="--at").point
+    point = configuration(mechanism, {**named, **at}, project_onto=arguments.project, where=configuration_options(arguments, at)).point
     report = classify(mechanism, point, rng=np.random.default_rng(arguments.seed),
                       length_scale=arguments.length_scale)
     found = ", ".join(kind.replace("_", "-") for kind in report.kinds) or "regular"
