@@ -74,12 +74,24 @@ def dense_memory_estimate(coordinates, rows):
     return 8 * (rows * coordinates + _BASIS_ARRAYS * coordinates * max(coordinates - rows, 0))
 
 
-def _binary_size(size):
-    """A byte count in the largest binary unit that keeps it at least 1, e.g. ``9.3 GiB``."""
+def _binary_size(size, digits=3):
+    """A byte count in the largest binary unit that keeps it at least 1, to `digits` significant digits, e.g.
+    ``9.3 GiB``."""
     for unit in ("B", "KiB", "MiB", "GiB", "TiB"):
         if size < 1024 or unit == "TiB":
-            return f"{size:.3g} {unit}" if unit != "B" else f"{size} B"
+            return f"{size:.{digits}g} {unit}" if unit != "B" else f"{size} B"
         size /= 1024
+
+
+def _sizes_apart(size, limit):
+    """`size` and `limit` in :func:`_binary_size`'s words with the fewest digits (3 at least) that tell them apart:
+    1,073,883,168 bytes against a limit of 2³⁰ read ``1 GiB`` and ``1 GiB`` to 3 digits, ``1.00013 GiB`` and
+    ``1 GiB`` to 6."""
+    for digits in range(3, 16):
+        shown = _binary_size(size, digits), _binary_size(limit, digits)
+        if shown[0] != shown[1]:
+            return shown
+    return f"{size} B", f"{limit} B"
 
 
 @dataclass(frozen=True, eq=False)
@@ -346,11 +358,11 @@ def _check_size(joints, graph, space):
     rows = LOOP_ROWS[space] * max(len(joints) - graph.number_of_nodes() + 1, 0)
     estimate = dense_memory_estimate(coordinates, rows)
     if estimate > DENSE_MEMORY_LIMIT:
+        needed, limit = _sizes_apart(estimate, DENSE_MEMORY_LIMIT)
         raise MechanismError(
             f"field 'joints': the mechanism is too large for the dense algorithms: {coordinates} joint "
-            f"coordinates and {rows} constraint rows need at least {_binary_size(estimate)} "
-            f"(8·(c·k + 4·k·(k − c)) bytes: DΦ and the tangent bases of M), more than the limit of "
-            f"{_binary_size(DENSE_MEMORY_LIMIT)}")
+            f"coordinates and {rows} constraint rows need at least {needed} "
+            f"(8·(c·k + 4·k·(k − c)) bytes: DΦ and the tangent bases of M), more than the limit of {limit}")
 
 
 def _one_edit_apart(first, second):

@@ -618,3 +618,12 @@ def test_mechanism_too_large_for_the_dense_algorithms_is_refused_with_its_size()
     assert message == ("mechanism text: field 'joints': the mechanism is too large for the dense algorithms: 6000 "
                        "joint coordinates and 0 constraint rows need at least 1.07 GiB (8·(c·k + 4·k·(k − c)) "
                        "bytes: DΦ and the tangent bases of M), more than the limit of 1 GiB")
+
+
+def test_a_mechanism_just_over_the_dense_memory_limit_is_refused_with_a_size_that_reads_above_it():
+    """32·5793² = 1,073,883,168 bytes against 2³⁰: to 3 digits both read ``1 GiB`` ("needs 1 GiB, more than the
+    limit of 1 GiB"); the size is shown to the digits that tell them apart."""
+    joints = [Joint(f"J{index}", "R", ("ground" if index == 0 else f"l{index - 1}", f"l{index}"),
+                    point=(float(index), 0.0)) for index in range(5793)]
+    with pytest.raises(MechanismError, match=r"need at least 1\.0001 GiB .* more than the limit of 1 GiB$"):
+        Mechanism("chain", "planar", joints)
