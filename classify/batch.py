@@ -61,7 +61,7 @@ from .metrics import JACOBI_ROWS, JACOBI_STACK, metric_root, moving_directions, 
 from .model import model_of
 from .progress import progress_bar
 from .report import KINDS
-from .survey import stacked as stacked_rows, survey_of, unit_actuator_rows
+from .survey import end_effector_reference, stacked as stacked_rows, survey_of, unit_actuator_rows
 from .threads import ordered_map, thread_count
 
 __all__ = ["Classifications", "classify_many", "kernel_bases", "default_chunk"]
@@ -650,7 +650,6 @@ def _regular_columns(model, points, basis, constraint_rank, survey, rtol, column
     tangent bases `basis` accurate to `error` (:func:`basis_error`, shape=[g]). Returns where a decision or
     a value is not sure (:func:`_unsure`), shape=[g]: those are classified one at a time."""
     k = model.manifold.ambient.dim
-    scales = model.manifold.ambient.tangent_scales
     dof = k - constraint_rank
     count = len(points)
     unit_actuators, actuator_scale = unit_actuator_rows(model)
@@ -661,8 +660,10 @@ def _regular_columns(model, points, basis, constraint_rank, survey, rtol, column
     n = model.end_effector_dimension
     if n:
         end_effector_jacobian = np.broadcast_to(model.end_effector_jacobian(points), (count, n, k))
-        end_effector_rows = metric_root(model.end_effector_metric) @ end_effector_jacobian
-        end_effector_scale = _largest(end_effector_rows * scales)
+        root = metric_root(model.end_effector_metric)
+        end_effector_rows = root @ end_effector_jacobian
+        reference = end_effector_reference(model, points, end_effector_rows, root)
+        end_effector_scale = _largest(np.broadcast_to(reference, (count,) + reference.shape[-2:]))
         end_effector_tolerance = np.maximum(rtol * end_effector_scale, DEFAULT_ATOL)
         end_effector_block = end_effector_rows @ basis
         end_effector_ranks, end_effector_margins = _decisions(singular_values(end_effector_block),

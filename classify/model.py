@@ -22,6 +22,7 @@ from mechanisms import (
 )
 
 from mechanisms.joints import joint_coordinate_names
+from mechanisms.kinematics import end_effector_reference
 
 from .metrics import end_effector_metric, weighted_actuator_jacobian
 
@@ -93,8 +94,13 @@ class Model:
         Known points of M (e.g. the home) from which the survey walks.
     end_effector_jacobian : callable, optional
         ``Df(point) -> array, shape=[n, k]`` in a chart of N.
-    end_effector_metric : ndarray, shape=[n, n], optional
-        H in that chart.
+    end_effector_reference : callable, optional
+        ``point -> array, shape=[n, r]``, in the same chart: rows whose
+        ``σ₁(H^½ ·)`` is the end-effector rank decision's reference scale,
+        ``diag(s)`` included (default ``Df·diag(s)``). A mechanism's give every
+        joint coordinate the rate its screw gives the end-effector
+        (:func:`mechanisms.kinematics.end_effector_reference`), so the scale
+        does not depend on which joints the spanning tree puts on Df's path.
     describe : callable, optional
         ``describe(point) -> dict`` for the report (joint displacements).
     mechanism : Mechanism, optional
@@ -115,6 +121,7 @@ class Model:
     starts: np.ndarray
     end_effector_jacobian: Optional[Callable] = None
     end_effector_metric: Optional[np.ndarray] = None
+    end_effector_reference: Optional[Callable] = None
     describe: Optional[Callable] = None
     mechanism: Optional[object] = None
     cache: dict = field(default_factory=dict, init=False, repr=False)
@@ -168,6 +175,7 @@ def _new_model(mechanism, length_scale):
         starts=home(mechanism)[None],
         end_effector_jacobian=(lambda point: end_effector_jacobian(mechanism, point)) if has_end_effector else None,
         end_effector_metric=end_effector_metric(mechanism, length_scale) if has_end_effector else None,
+        end_effector_reference=(lambda point: end_effector_reference(mechanism, point)) if has_end_effector else None,
         describe=lambda point: to_displacements(mechanism, point),
         mechanism=mechanism,
     )
@@ -197,4 +205,4 @@ def joint_output_model(mechanism, joint_names, where="outputs"):
     selection = np.eye(mechanism.ambient_dimension)[[mechanism.coordinate_names.index(name) for name in outputs]]
     base = model_of(mechanism)
     return replace(base, end_effector_jacobian=lambda point: selection,
-                   end_effector_metric=np.eye(selection.shape[0]))
+                   end_effector_metric=np.eye(selection.shape[0]), end_effector_reference=None)

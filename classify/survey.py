@@ -238,14 +238,26 @@ def decision_rows(model, point):
     end_effector : ndarray, shape=[n, k] or None
         ``H^½ Df``.
     end_effector_scale : float or None
-        σ₁ of ``H^½ Df·diag(s)``.
+        σ₁ of :func:`end_effector_reference` (``H^½ Df·diag(s)`` for a model without reference rows; for a
+        mechanism, the rate every joint coordinate's screw gives the end-effector, which no order of the joints
+        changes).
     """
-    scales = model.manifold.ambient.tangent_scales
     actuators, actuator_scale = unit_actuator_rows(model)
     if not model.end_effector_dimension:
         return actuators, actuator_scale, None, None
-    jacobian = metric_root(model.end_effector_metric) @ model.end_effector_jacobian(point)
-    return actuators, actuator_scale, jacobian, largest_singular_value(jacobian * scales)
+    root = metric_root(model.end_effector_metric)
+    jacobian = root @ model.end_effector_jacobian(point)
+    reference = end_effector_reference(model, point, jacobian, root)
+    return actuators, actuator_scale, jacobian, largest_singular_value(reference)
+
+
+def end_effector_reference(model, points, rows, root):
+    """The rows whose σ₁ is the end-effector decision's reference scale at `points` (one or a stack): ``H^½``
+    (`root`) times the model's ``end_effector_reference`` rows, or ``rows·diag(s)`` (`rows` = ``H^½ Df`` there)
+    when the model has none."""
+    if model.end_effector_reference is None:
+        return rows * model.manifold.ambient.tangent_scales
+    return root @ model.end_effector_reference(points)
 
 
 def unit_actuator_rows(model):

@@ -1,0 +1,146 @@
+"""The end-effector rank decision's reference scale does not depend on the order of the joints in the file
+(docs/conventions.rst, "Rank tolerance policy").
+
+Df is nonzero only on the spanning tree's path from the ground to the end-effector's link, and the tree is grown
+in file order: listing the 3-PRR's joints in another order put rail3, C3, B3 on the path instead of rail1, B1,
+C1, moved σ₁(H½ Df·diag(s)) by 37 %, and a configuration near the cut (found by an audit) read end-effector
+singular in one file and regular in the other, in ``classify``, ``classify --batch``, ``map`` and ``compare``.
+"""
+
+import dataclasses
+
+import numpy as np
+import pytest
+
+from classify import classify, classify_many, model_of
+from mechanisms import Mechanism, assemble, catalogue, home
+from mechanisms.kinematics import end_effector_jacobian, end_effector_reference, kinematics_of
+
+ORDER = ["B2", "C2", "C1", "rail3", "rail2", "C3", "B3", "rail1", "B1"]
+
+
+def reordered(mechanism, names):
+    by_name = {joint.name: joint for joint in mechanism.joints}
+    return Mechanism(mechanism.name, mechanism.space, [by_name[name] for name in names], mechanism.ground,
+                     mechanism.end_effector)
+
+
+def reversed_joint(mechanism, name):
+    """`name` written from its second link to its first (an R or P joint: same point, axis reversed, so the
+    displacement keeps its sign convention up to the axis)."""
+    joints = []
+    for joint in mechanism.joints:
+        if joint.name == name:
+            axis = None if joint.axis is None else tuple(-value for value in joint.axis)
+            joint = dataclasses.replace(joint, links=joint.links[::-1], axis=axis)
+        joints.append(joint)
+    return Mechanism(mechanism.name, mechanism.space, joints, mechanism.ground, mechanism.end_effector)
+
+
+def test_the_audits_three_prr_reads_alike_in_either_order():
+    mechanism = catalogue.entry("3-prr").mechanism("fig3_serial_leg1")
+    other = reordered(mechanism, ORDER)
+    assert kinematics_of(other).link_chains[other.end_effector.link].elements != \
+        kinematics_of(mechanism).link_chains[mechanism.end_effector.link].elements  # another path to the platform
+    reports = []
+    for each in (mechanism, other):
+        point = assemble(each, {"rail2": 3.3e-4}).point
+        reports.append(classify(each, point))
+    first, second = (report.end_effector.decision for report in reports)
+    assert reports[0].kinds == reports[1].kinds == ("end_effector",)
+    assert first.tolerance == pytest.approx(second.tolerance, rel=1e-12)
+    np.testing.assert_allclose(first.singular_values, second.singular_values, rtol=1e-9)
+
+
+def reference_values(mechanism, point):
+    """The singular values of the reference rows (``R·diag(s)``, before H½)."""
+    return np.linalg.svd(end_effector_reference(mechanism, point), compute_uv=False)
+
+
+@pytest.mark.parametrize("name", [item.name for item in catalogue.entries()
+                                  if item.mechanism().end_effector is not None])
+def test_the_reference_rows_have_the_same_singular_values_in_any_order_and_direction(name):
+    """Another order of the joints, reversed (another spanning tree, another path to the end-effector's link), and
+    one R or P joint written the other way round: the same σ's of R·diag(s), at home and at points of M."""
+    mechanism = catalogue.entry(name).mechanism()
+    other = reordered(mechanism, [joint.name for joint in mechanism.joints][::-1])
+    flippable = next((joint.name for joint in mechanism.joints if joint.type in ("R", "P")), None)
+    if flippable is not None:
+        other = reversed_joint(other, flippable)
+    values = reference_values(mechanism, home(mechanism))
+    np.testing.assert_allclose(values, reference_values(other, home(other)), rtol=1e-12, atol=1e-12 * values[0])
+
+
+@pytest.mark.parametrize("name", ["3-prr", "planar-3rrr", "spherical-3rrr", "gough-stewart", "5-spu", "eclipse"])
+def test_the_reference_gram_is_that_of_every_coordinates_df_column(name):
+    """R's column of a coordinate is the rate of f its screw gives: Df's column of an order of the joints that puts
+    the coordinate on Df's path (up to sign). Where some order reaches every coordinate, R·diag(s)·(R·diag(s))ᵀ is
+    the sum of those columns' squares; elsewhere the Gram of the columns reached is below it."""
+    mechanism = catalogue.entry(name).mechanism()
+    scales = model_of(mechanism).manifold.ambient.tangent_scales
+    names = [joint.name for joint in mechanism.joints]
+    columns = {}
+    for shift in range(len(names)):
+        other = reordered(mechanism, names[shift:] + names[:shift])
+        jacobian = end_effector_jacobian(other, home(other))
+        for index, coordinate in enumerate(other.coordinate_names):
+            if np.any(jacobian[:, index]) and coordinate[-3:-1] not in ("[x", "[y", "[z"):  # balls: a rotation
+                columns.setdefault(coordinate, jacobian[:, index] * scales[mechanism.coordinate_names.index(
+                    coordinate)])
+    reference = end_effector_reference(mechanism, home(mechanism))
+    gram = reference @ reference.T
+    reached = sum(np.outer(column, column) for column in columns.values())
+    balls = [coordinate for coordinate in mechanism.coordinate_names if coordinate[-3:-1] in ("[x", "[y", "[z")]
+    if len(columns) + len(balls) == len(mechanism.coordinate_names) and not balls:
+        np.testing.assert_allclose(gram, reached, atol=1e-12 * np.abs(gram).max())
+    else:  # the Gram of the columns reached is below R's (positive semidefinite difference)
+        assert np.linalg.eigvalsh(gram - reached).min() >= -1e-12 * np.abs(gram).max()
+    assert len(columns) > len(set(np.flatnonzero(np.any(end_effector_jacobian(mechanism, home(mechanism)), axis=0))))
+
+
+def test_a_stack_uses_the_same_reference_as_single_calls():
+    mechanism = catalogue.entry("3-prr").mechanism("fig3_serial_leg1")
+    other = reordered(mechanism, ORDER)
+    for each in (mechanism, other):
+        model = model_of(each)
+        points = np.stack([assemble(each, {"rail2": value}).point for value in (3.3e-4, 1e-2, -2e-2)])
+        result = classify_many(model, points)
+        for index, point in enumerate(points):
+            report = classify(model, point)
+            assert result.kinds(index) == report.kinds
+            np.testing.assert_allclose(result.tolerances["end_effector"][index], report.end_effector.decision.tolerance,
+                                       rtol=1e-12)
+
+
+@pytest.mark.parametrize("name", [item.name for item in catalogue.entries()
+                                  if item.mechanism().end_effector is not None])
+def test_the_rates_a_twist_gives_are_the_chart_of_df(name):
+    """A(p) in closed form (position, orientation, pose, tool; planar, spherical, spatial) equals the rates
+    Df's own formulas give the motion ∂F = ξ̂ F of the end-effector's link, at random poses, for every unit twist."""
+    from scipy.spatial.transform import Rotation
+
+    from mechanisms import _groups as groups
+    from mechanisms.kinematics import _end_effector_columns, _skew, _twist_rates
+
+    mechanism = catalogue.entry(name).mechanism()
+    compiled = kinematics_of(mechanism)
+    rng = np.random.default_rng(7)
+    size = groups.MATRIX_SIZE[compiled.space]
+    poses = np.zeros((6, size, size))
+    poses[..., -1, -1] = 1.0
+    if compiled.space == "planar":
+        angles = rng.uniform(-np.pi, np.pi, 6)
+        poses[:, :2, :2] = np.stack([[np.cos(angles), -np.sin(angles)], [np.sin(angles), np.cos(angles)]]).transpose(
+            2, 0, 1)
+        poses[:, :2, 2] = rng.normal(size=(6, 2))
+        units = np.zeros((3, 3, 3))
+        units[0, 1, 0], units[0, 0, 1], units[1, 0, 2], units[2, 1, 2] = 1.0, -1.0, 1.0, 1.0
+    else:
+        poses[:, :3, :3] = Rotation.random(6, random_state=7).as_matrix()
+        units = np.zeros((3 if compiled.space == "spherical" else 6, size, size))
+        units[:3, :3, :3] = _skew(np.eye(3))
+        if compiled.space == "spatial":
+            poses[:, :3, 3] = rng.normal(size=(6, 3))
+            units[3:, :3, 3] = np.eye(3)
+    expected = np.swapaxes(_end_effector_columns(compiled, poses, units @ poses[:, None]), -1, -2)
+    np.testing.assert_allclose(_twist_rates(compiled, poses), expected, atol=1e-14)
