@@ -223,7 +223,8 @@ def _text(document, slides=()):
         lines.append(f"  assembly branches of the grid: {found['found']} (of at most {found['asked']}), reaching "
                      + ", ".join(str(count) for count in found["reached"]) + " grid point(s)")
     for record in coverage.get("whole_branch", ()):
-        lines.append(f"  {record['kind'].replace('_', '-')} singular along the whole branch {record['branch'] + 1}: "
+        lines.append(f"  {record['kind'].replace('_', '-')} singular along the whole branch {record['branch'] + 1} "
+                     f"(the JSON's branches[{record['branch']}], counted from 0): "
                      f"the sign function's magnitude at most {record['largest']:.2g} at its {record['points']} "
                      f"points (tolerance {record['tolerance']:g})")
     if "cspace_search" in coverage:

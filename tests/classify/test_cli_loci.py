@@ -4,6 +4,7 @@ through ``closedchain classify``."""
 import contextlib
 import io
 import json
+import re
 
 import pytest
 
@@ -132,6 +133,9 @@ def test_whole_branch_in_json_and_text():
     status, out, err = run(["loci", "slider-crank", "--configuration", "fig3a_self_intersection",
                             "--kinds", "actuator,end_effector"])
     assert status == 0 and "1 a whole branch of M" in out and "singular along the whole branch" in out
+    # the text counts branches from 1, the JSON from 0: the line says which of the JSON's it is
+    number = re.search(r"singular along the whole branch (\d+) \(the JSON's branches\[(\d+)\]", out).groups()
+    assert int(number[0]) == record["branch"] + 1 and int(number[1]) == record["branch"]
 
 
 def test_singular_start_and_assembly_branches_in_the_text():
