@@ -62,8 +62,10 @@ _FORMAT = "closedchain-survey"
 #: ranks are taken on the directions M extends along (a part that only flexes counted as idle freedoms that
 #: move the end-effector), and the survey carries its margins; 5: the fingerprint is stored in parts and
 #: probes Φ, DΦ and Df (a model given by Φ alone, or a joint-output model, shared the fingerprint of another),
-#: and a checksum binds the survey to the file. A file of an earlier version is refused, not reused
-_VERSION = 5
+#: and a checksum binds the survey to the file; 6: the end-effector decisions' reference scale is σ₁ of the rate
+#: every joint coordinate gives the end-effector (the model's ``end_effector_reference``, probed too), not of
+#: Df's path, so the end-effector and joint margins changed. A file of an earlier version is refused, not reused
+_VERSION = 6
 #: largest survey cache file read (bytes)
 _LARGEST_FILE = 1 << 20
 #: the fields of a survey cache file, and of its survey
@@ -162,13 +164,15 @@ def _probe_points(model):
 
 
 def _probe(model):
-    """Φ, DΦ·diag(s) and Df at :func:`_probe_points`, rounded (:func:`_quantised`); a map that fails at a
-    point is recorded by its error's type."""
+    """Φ, DΦ·diag(s), Df and the end-effector's reference rows at :func:`_probe_points`, rounded
+    (:func:`_quantised`); a map that fails at a point is recorded by its error's type."""
     points = _probe_points(model)
     maps = {"constraint": model.manifold.constraint,
             "constraint_jacobian": lambda point: scaled_jacobian(model.manifold, point)}
     if model.end_effector_jacobian is not None:
         maps["end_effector_jacobian"] = model.end_effector_jacobian
+    if model.end_effector_reference is not None:
+        maps["end_effector_reference"] = model.end_effector_reference
     probe = {}
     for name, function in maps.items():
         try:

@@ -820,7 +820,8 @@ def end_effector_reference(mechanism, point):
     With ξ⁰ a coordinate's twist at home (twist coordinates, as
     :func:`mechanisms._groups.vee`), carried by the pose g of a link its
     axis is fixed in — ξ = Ad_g ξ⁰; on M the same for either link of an R,
-    P, C or S joint; a U joint's second axis is fixed in its second link —
+    P, C or S joint; a U joint's first axis is fixed in its first link
+    only, its second in its second —
     and A(p) the map from a twist ξ to the rate of f its motion ∂F = ξ̂ F
     of the end-effector frame gives (in the chart of
     :func:`end_effector_jacobian`), the column is A(p) ξ. The coordinates
@@ -934,13 +935,15 @@ def _reference_plan(mechanism):
     compiled = kinematics_of(mechanism)
     space, scales = compiled.space, compiled.ambient.tangent_scales
     first = tuple(dict.fromkeys((mechanism.ground, compiled.end_effector_link)))
-    # the ground's pose costs nothing and the end-effector link's is computed anyway; else the nearer the ground
+    # of two links that carry an axis: the ground's pose costs nothing and the end-effector link's is computed
+    # anyway; else the nearer the ground
     cost = lambda link: (-1 if link in first else len(compiled.link_chains[link].elements))
     carried, tangent_start = {link: [] for link in first}, 0
     for joint in mechanism.joints:
         elements = chains.elements_of_joint(mechanism, joint, compiled.point_parts[joint.name], tangent_start)
         for number, element in enumerate(elements):
-            link = joint.links[1] if joint.type == "U" and number == 1 else min(joint.links, key=cost)
+            # a U joint's first axis is fixed in its first link, its second in its second; any other axis in both
+            link = joint.links[number] if joint.type == "U" else min(joint.links, key=cost)
             for index, twist in zip(element.tangent_indices, element.twists):
                 carried.setdefault(link, []).append(scales[index] * groups.vee(space, twist))
         tangent_start += sum(len(element.twists) for element in elements)

@@ -449,7 +449,8 @@ def _check_unicode_forms(joints):
     joint_names, link_names = {}, {}
     for joint in joints:
         named = ((joint_names, joint.name, "field 'name'", "joint"),
-                 *((link_names, link, f"field 'links': item {index}", "link") for index, link in enumerate(joint.links)))
+                 *((link_names, link, f"field 'links': item {index}", "link")
+                   for index, link in enumerate(joint.links)))
         for names, name, field_name, what in named:
             other, owner = names.setdefault(unicodedata.normalize("NFC", name), (name, joint.name))
             if other != name:

@@ -141,7 +141,8 @@ def _run_single(arguments, out):
     if arguments.assemble:
         point, assembly = _assembled(mechanism, named, at, arguments)
     else:
-        projected = configuration(mechanism, {**named, **at}, project_onto=arguments.project, where=configuration_options(arguments, at),
+        projected = configuration(mechanism, {**named, **at}, project_onto=arguments.project,
+                                  where=configuration_options(arguments, at),
                                   remedy="give closing values, or use --assemble to hold the values given and solve "
                                          "the loops for the other joints, or --project to move the configuration onto "
                                          "the C-space (the values given move too)")

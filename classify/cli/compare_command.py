@@ -176,7 +176,8 @@ def run(arguments, out):
         model = model_of(mechanism, arguments.length_scale)
     if not len(model.actuators):
         raise InputError(f"--inputs: {mechanism.name!r} has no actuated joint; name the input joints")
-    start = configuration(mechanism, named, where=configuration_options(arguments, {})).point
+    start = configuration(mechanism, named, where=configuration_options(arguments, {}),
+                          remedy="give closing values (--project moves the --at configurations only)").point
     given = [configuration(mechanism, {**named, **at}, project_onto=arguments.project,
                            where=configuration_options(arguments, at)).point
              for at in map(displacements, arguments.at)]

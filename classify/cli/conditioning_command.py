@@ -181,7 +181,8 @@ def run(arguments, out):
     if arguments.grid is None and arguments.mode != "all":
         raise InputError("--mode: applies to the maps of --grid")
     at = displacements(arguments.at)
-    point = configuration(mechanism, {**named, **at}, where=configuration_options(arguments, at)).point
+    point = configuration(mechanism, {**named, **at}, where=configuration_options(arguments, at),
+                          remedy="give closing values").point
     entry = _source_entry(arguments)
     if entry == "3-prr-inputs":
         entry = "3-prr"

@@ -128,7 +128,8 @@ def run(arguments, out):
         check_title(arguments.title)
     mechanism, named = source(arguments)
     at = displacements(arguments.at)
-    point = configuration(mechanism, {**named, **at}, project_onto=arguments.project, where=configuration_options(arguments, at)).point
+    point = configuration(mechanism, {**named, **at}, project_onto=arguments.project,
+                          where=configuration_options(arguments, at)).point
     report = classify(mechanism, point, rng=np.random.default_rng(arguments.seed),
                       length_scale=arguments.length_scale)
     found = ", ".join(kind.replace("_", "-") for kind in report.kinds) or "regular"

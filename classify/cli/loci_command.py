@@ -54,8 +54,8 @@ the text or JSON is printed as well.
 from __future__ import annotations
 
 from ..text import drawn, printable
-from ._common import (InputError, check_output, common_options, entry_options, file_after_grid, input_files, integer,
-                      source)
+from ._common import (InputError, check_output, common_options, configuration_options, entry_options, file_after_grid,
+                      input_files, integer, source)
 
 __all__ = ["add_parser", "run", "DEFAULT_COUNT"]
 
@@ -263,7 +263,7 @@ def run(arguments, out):
     if arguments.branches < 1:
         raise InputError(f"--branches: at least 1, got {arguments.branches}")
     mechanism, named = source(arguments)
-    start = configuration(mechanism, named, where="--configuration").point
+    start = configuration(mechanism, named, where=configuration_options(arguments, {}), remedy="give closing values").point
     model = model_of(mechanism, arguments.length_scale)
     survey = survey_of(model)
     dof = mechanism.ambient_dimension - survey.constraint_rank

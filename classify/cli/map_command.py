@@ -67,8 +67,9 @@ from __future__ import annotations
 
 from ..progress import progress_bar, show_progress
 from ..text import printable
-from ._common import (InputError, check_length_scale, check_output, closures_option, common_options, entry_options,
-                      file_after_grid, input_files, source, survey_option, threads_option, warn_if_serial)
+from ._common import (InputError, check_length_scale, check_output, closures_option, common_options,
+                      configuration_options, entry_options, file_after_grid, input_files, source, survey_option,
+                      threads_option, warn_if_serial)
 
 __all__ = ["add_parser", "run", "PICTURE"]
 
@@ -162,7 +163,7 @@ def _configurations(arguments, mechanism, named, grid):
     targets = configurations.points_of(mechanism, requested)
     if arguments.project:  # every grid point is projected: the start need not close the loops
         return configurations.project_configurations(mechanism, targets, CLOSURE_TOLERANCE) + (None,)
-    starting = configuration(mechanism, named, where="--configuration")
+    starting = configuration(mechanism, named, where=configuration_options(arguments, {}))
     bar = progress_bar(grid.size, "assembling", unit="point")
     try:
         points, reachable, starting = assemble_grid(mechanism, starting.point, targets, grid.shape,

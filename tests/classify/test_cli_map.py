@@ -393,7 +393,7 @@ def test_project_starts_from_a_named_configuration_that_does_not_close(tmp_path)
     assert status == 0, err
     assert json.loads(out)["summary"]["reachable"] == 3
     status, _, err = run(argv)
-    assert status == 2 and "--configuration: the configuration does not close the loops" in err
+    assert status == 2 and "--configuration open: the configuration does not close the loops" in err
 
 
 ROBOT = Path(__file__).resolve().parents[1] / "data" / "robots" / "5bar_linkage"

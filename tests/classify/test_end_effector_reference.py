@@ -144,3 +144,62 @@ def test_the_rates_a_twist_gives_are_the_chart_of_df(name):
             units[3:, :3, 3] = np.eye(3)
     expected = np.swapaxes(_end_effector_columns(compiled, poses, units @ poses[:, None]), -1, -2)
     np.testing.assert_allclose(_twist_rates(compiled, poses), expected, atol=1e-14)
+
+
+def serial_chain(u_links, output):
+    """A spatial serial chain U–R–C–S–P (the C and P written from their second link), every joint on Df's path."""
+    from mechanisms import EndEffector, Joint
+
+    axes = ((1.0, 0.0, 0.0), (0.0, 1.0, 0.0))
+    joints = [Joint("U", "U", u_links, point=(0.0, 0.0, 0.3), axes=axes if u_links[0] == "ground" else axes[::-1]),
+              Joint("R", "R", ("l1", "l2"), point=(0.2, 0.1, 0.8), axis=(0.0, 0.0, 1.0)),
+              Joint("C", "C", ("l3", "l2"), point=(0.5, -0.2, 1.0), axis=(0.6, 0.0, 0.8)),
+              Joint("S", "S", ("l3", "l4"), point=(0.7, 0.3, 1.4)),
+              Joint("P", "P", ("l5", "l4"), axis=(0.0, 0.6, 0.8), actuated=True)]
+    end_effector = EndEffector("l5", point=None if output == "orientation" else (0.9, 0.4, 1.9), output=output,
+                               axis=(0.0, 0.0, 1.0) if output == "tool" else None)
+    return Mechanism("serial", "spatial", joints, "ground", end_effector)
+
+
+@pytest.mark.parametrize("output", ["pose", "position", "orientation", "tool"])
+@pytest.mark.parametrize("u_links", [("ground", "l1"), ("l1", "ground")])
+def test_on_a_serial_chain_the_reference_gram_is_dfs_away_from_home(u_links, output):
+    """Every joint of a serial chain is on Df's path, so R·diag(s) and Df·diag(s) have one Gram at any
+    configuration, whichever way the joints are written: a U joint's first axis is fixed in its first link only
+    (the reference took the ground's pose for it when the U was written from its second link, 39 % off away
+    from home; a review found it)."""
+    import warnings
+
+    from mechanisms import from_displacements
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")  # a serial chain: no loop
+        mechanism = serial_chain(u_links, output)
+    rng = np.random.default_rng(3)
+    scales = model_of(mechanism).manifold.ambient.tangent_scales
+    for _ in range(3):
+        point = from_displacements(mechanism, {"U": tuple(rng.uniform(-1, 1, 2)), "R": rng.uniform(-1, 1),
+                                               "C": tuple(rng.uniform(-1, 1, 2)), "S": tuple(rng.uniform(-1, 1, 3)),
+                                               "P": rng.uniform(-1, 1)})
+        jacobian = end_effector_jacobian(mechanism, point) * scales
+        reference = end_effector_reference(mechanism, point)
+        np.testing.assert_allclose(reference @ reference.T, jacobian @ jacobian.T,
+                                   atol=1e-14 * np.abs(jacobian @ jacobian.T).max())
+
+
+def test_a_u_joint_written_the_other_way_round_keeps_the_reference_away_from_home():
+    """The Gough–Stewart with U1 written from its cylinder to the ground (axes swapped), at a configuration off
+    home: the same platform pose and the same σ's of R·diag(s) (the review's case: 4.6240 against 4.6254)."""
+    from mechanisms.kinematics import end_effector as end_effector_value
+
+    mechanism = catalogue.entry("gough-stewart").mechanism()
+    joints = [dataclasses.replace(joint, links=joint.links[::-1], axes=joint.axes[::-1]) if joint.name == "U1"
+              else joint for joint in mechanism.joints]
+    other = Mechanism(mechanism.name, mechanism.space, joints, mechanism.ground, mechanism.end_effector)
+    actuated = [joint.name for joint in mechanism.joints if joint.actuated]
+    values = {actuated[0]: 0.07, actuated[1]: -0.05}
+    point, other_point = assemble(mechanism, values).point, assemble(other, values).point
+    np.testing.assert_allclose(end_effector_value(mechanism, point), end_effector_value(other, other_point),
+                               atol=1e-12)
+    values = reference_values(mechanism, point)
+    np.testing.assert_allclose(reference_values(other, other_point), values, rtol=1e-12, atol=1e-12 * values[0])

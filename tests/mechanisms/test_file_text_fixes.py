@@ -37,7 +37,8 @@ def test_an_explicit_tag_reads_only_what_the_core_schema_reads(field, text):
         loads(four_bar(**{field: text}))
 
 
-@pytest.mark.parametrize("field, text, read_as", [("actuated", "!!bool true", True), ("actuated", "!!bool False", False),
+@pytest.mark.parametrize("field, text, read_as", [("actuated", "!!bool true", True),
+                                                  ("actuated", "!!bool False", False),
                                                   ("rocker_x", "!!int 2", 2.0), ("rocker_x", "!!float 2", 2.0),
                                                   ("rocker_x", "!!int 0x2", 2.0), ("rocker_x", "!!float 2.0e0", 2.0)])
 def test_an_explicit_tag_of_core_text_still_reads(field, text, read_as):
@@ -109,16 +110,21 @@ NOT_CLOSING = four_bar() + "configurations: {apart: {A: 0.3}}\n"
 
 
 @pytest.mark.parametrize("command, extra", [("classify", []), ("draw", ["--out", "x.png"]),
-                                            ("conditioning", []), ("compare", ["--outputs", "D"])])
+                                            ("conditioning", []), ("compare", ["--outputs", "D", "--project"]),
+                                            ("loci", []), ("map", ["--grid", "A=0:1:3"])])
 def test_a_named_configuration_that_does_not_close_is_blamed_on_its_option(tmp_path, monkeypatch, capsys,
                                                                            command, extra):
-    """``classify`` and ``draw`` said ``--at: the configuration does not close`` when no ``--at`` was given."""
+    """``classify`` and ``draw`` said ``--at: the configuration does not close`` when no ``--at`` was given, and
+    ``compare``, ``conditioning`` and ``loci`` offered ``--project``, which does not move it (or does not exist)."""
     monkeypatch.chdir(tmp_path)
     (tmp_path / "m.yaml").write_text(NOT_CLOSING)
     status = main([command, "m.yaml", "--configuration", "apart", *extra])
     captured = capsys.readouterr()
     assert status == 2 and captured.err.count("\n") == 1, captured.err
     assert captured.err.startswith("closedchain: error: --configuration apart: the configuration does not close")
+    # --project is offered only where it would move this configuration (compare's moves its --at ones only)
+    assert ("--project" in captured.err) == (command != "conditioning" and command != "loci"), captured.err
+    assert ("--at configurations only" in captured.err) == (command == "compare"), captured.err
     if command != "conditioning":
         return
     status = main([command, "m.yaml", "--configuration", "apart", "--at", '{"B": 0.1}'])
