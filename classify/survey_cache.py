@@ -9,7 +9,9 @@ made for anything else is refused, naming the parts that differ:
 - ``coordinates``: of the ambient factors, their scales and the starts;
 - ``actuators``: of the weighted actuator rows;
 - ``end_effector_metric``: of H (another ``--length-scale`` changes it);
-- ``probe``: of Φ, DΦ·diag(s) and the end-effector Jacobian Df evaluated at
+- ``probe``: of Φ, DΦ·diag(s), the end-effector Jacobian Df and the rows
+  of the end-effector rank's reference scale (the model's
+  ``end_effector_reference``, where it has them) evaluated at
   the first start (the home) and at three fixed points near it (each tangent
   coordinate moved by a fixed multiple, at most 0.1, of its scale), every
   value rounded to 1e-10 of its row's scale (the largest magnitude of that
@@ -31,7 +33,7 @@ elsewhere.
 
 Format (JSON)::
 
-    {"format": "closedchain-survey", "version": 5, "mechanism": NAME,
+    {"format": "closedchain-survey", "version": 6, "mechanism": NAME,
      "fingerprint": {"mechanism": HEX, …, "rtol": 1e-06, "seed": 0}, "rtol": 1e-06,
      "survey": {"samples": …, …}, "checksum": HEX}
 """
