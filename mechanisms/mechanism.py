@@ -176,6 +176,7 @@ class Mechanism:
         for joint in joints:
             graph.add_edge(*joint.links, key=joint.name, joint=joint)
         if self.ground not in graph:
+            _refuse_unicode_twin(self.ground, graph, joints, "field 'ground'")
             raise MechanismError(f"field 'ground': link {self.ground!r} is not joined to any joint")
         _check_size(joints, graph, self.space)
         unreachable = set(graph) - nx.node_connected_component(graph, self.ground)
@@ -187,6 +188,8 @@ class Mechanism:
         if self.end_effector is not None:
             if not isinstance(self.end_effector, EndEffector):
                 raise MechanismError("field 'end_effector': expected an EndEffector")
+            if isinstance(self.end_effector.link, str) and self.end_effector.link not in graph:
+                _refuse_unicode_twin(self.end_effector.link, graph, joints, "end_effector: field 'link'")
             check_end_effector(self.end_effector, self.space, graph)
         _check_dangling_links(joints, graph, self.ground, self.end_effector)
         object.__setattr__(self, "joints", joints)
@@ -458,6 +461,17 @@ def _check_unicode_forms(joints):
                 raise MechanismError(f"joint {joint.name!r}: {field_name}: {what} name {ascii(name)} and "
                                      f"{ascii(other)}{where} are one text in two Unicode forms: they print alike "
                                      f"but are different names; write them alike")
+
+
+def _refuse_unicode_twin(name, links, joints, where):
+    """Refuse `name` (the ground, the end-effector's link) where a link of the joints is the same text in another
+    Unicode form: "unknown link" would name a link that prints exactly like a known one."""
+    composed = unicodedata.normalize("NFC", name)
+    twin = next((link for link in links if unicodedata.normalize("NFC", link) == composed), None)
+    if twin is not None:
+        raise MechanismError(f"{where}: link name {ascii(name)} and {ascii(twin)} (joint {_joint_of(joints, twin)!r}) "
+                             f"are one text in two Unicode forms: they print alike but are different names; write "
+                             f"them alike")
 
 
 def _check_dangling_links(joints, graph, ground, end_effector):

@@ -130,3 +130,20 @@ def test_a_named_configuration_that_does_not_close_is_blamed_on_its_option(tmp_p
     status = main([command, "m.yaml", "--configuration", "apart", "--at", '{"B": 0.1}'])
     assert status == 2
     assert capsys.readouterr().err.startswith("closedchain: error: --configuration apart with --at: the configuration")
+
+
+@pytest.mark.parametrize("field", ["ground", "end_effector"])
+def test_the_ground_or_end_effector_link_in_another_unicode_form_is_named_so(field):
+    """The ground or the end-effector's link written ``é`` where the joints write ``e`` + U+0301 was refused as
+    "not joined to any joint" / "unknown link", naming a link that prints exactly like a known one."""
+    composed = "bi\u00e9lle"
+    decomposed = unicodedata.normalize("NFD", composed)
+    text = four_bar(coupler_b=decomposed, coupler_c=decomposed)
+    if field == "ground":
+        text = text.replace("ground", decomposed.replace("bi", "gr")) + f"ground: {composed.replace('bi', 'gr')}\n"
+        match = r"field 'ground': link name 'gr\\xe9lle' and 'gre\\u0301lle' \(joint 'A'\) are one text"
+    else:
+        text += f"end_effector: {{link: {composed}, point: [1, 1]}}\n"
+        match = r"end_effector: field 'link': link name 'bi\\xe9lle' and 'bie\\u0301lle' \(joint 'B'\) are one text"
+    with pytest.raises(MechanismError, match=match):
+        loads(text)
