@@ -94,10 +94,12 @@ class Model:
         Known points of M (e.g. the home) from which the survey walks.
     end_effector_jacobian : callable, optional
         ``Df(point) -> array, shape=[n, k]`` in a chart of N.
+    end_effector_metric : ndarray, shape=[n, n], optional
+        H in that chart.
     end_effector_reference : callable, optional
         ``point -> array, shape=[n, r]``, in the same chart: rows whose
         ``σ₁(H^½ ·)`` is the end-effector rank decision's reference scale,
-        ``diag(s)`` included (default ``Df·diag(s)``). A mechanism's give every
+        ``diag(s)`` included (default ``Df·diag(s)``). A mechanism's rows give every
         joint coordinate the rate its screw gives the end-effector
         (:func:`mechanisms.kinematics.end_effector_reference`), so the scale
         does not depend on which joints the spanning tree puts on Df's path.

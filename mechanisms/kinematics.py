@@ -916,8 +916,7 @@ def _adjoint(space, poses):
 class _ReferencePlan:
     """What :func:`end_effector_reference` evaluates: the links carrying axes (the ground and the end-effector's
     link first: `chained` of them), the chains of the others grouped by shape (a group's ``chains`` are positions
-    among them), the
-    twists each carries times its coordinates' scales [c, d, w] (zero-padded)."""
+    among them), and the twists each carries times its coordinates' scales [c, d, w] (zero-padded)."""
 
     carriers: tuple
     chained: int

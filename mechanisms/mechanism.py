@@ -457,10 +457,8 @@ def _check_unicode_forms(joints):
         for names, name, field_name, what in named:
             other, owner = names.setdefault(unicodedata.normalize("NFC", name), (name, joint.name))
             if other != name:
-                where = "" if what == "joint" else f" (joint {owner!r})"
-                raise MechanismError(f"joint {joint.name!r}: {field_name}: {what} name {ascii(name)} and "
-                                     f"{ascii(other)}{where} are one text in two Unicode forms: they print alike "
-                                     f"but are different names; write them alike")
+                raise MechanismError(_two_forms(f"joint {joint.name!r}: {field_name}", what, name, other,
+                                                None if what == "joint" else owner))
 
 
 def _refuse_unicode_twin(name, links, joints, where):
@@ -469,9 +467,15 @@ def _refuse_unicode_twin(name, links, joints, where):
     composed = unicodedata.normalize("NFC", name)
     twin = next((link for link in links if unicodedata.normalize("NFC", link) == composed), None)
     if twin is not None:
-        raise MechanismError(f"{where}: link name {ascii(name)} and {ascii(twin)} (joint {_joint_of(joints, twin)!r}) "
-                             f"are one text in two Unicode forms: they print alike but are different names; write "
-                             f"them alike")
+        raise MechanismError(_two_forms(where, "link", name, twin, _joint_of(joints, twin)))
+
+
+def _two_forms(where, what, name, other, joint=None):
+    """The message for two names that are one text in two Unicode forms, both shown with ``ascii()`` so that the
+    difference shows (and `joint`, the other's, where it is not the one named in `where`)."""
+    owner = "" if joint is None else f" (joint {joint!r})"
+    return (f"{where}: {what} name {ascii(name)} and {ascii(other)}{owner} are one text in two Unicode forms: they "
+            f"print alike but are different names; write them alike")
 
 
 def _check_dangling_links(joints, graph, ground, end_effector):

@@ -263,7 +263,8 @@ def run(arguments, out):
     if arguments.branches < 1:
         raise InputError(f"--branches: at least 1, got {arguments.branches}")
     mechanism, named = source(arguments)
-    start = configuration(mechanism, named, where=configuration_options(arguments, {}), remedy="give closing values").point
+    start = configuration(mechanism, named, where=configuration_options(arguments, {}),
+                          remedy="give closing values").point
     model = model_of(mechanism, arguments.length_scale)
     survey = survey_of(model)
     dof = mechanism.ambient_dimension - survey.constraint_rank
