@@ -404,9 +404,10 @@ def stage_times(model, points):
     values, the stacked map (computed only where it can raise the survey's
     rank), the proper values.
     """
-    from classify.batch import _arrow_structure, _constraint_values, kernel_bases
+    from classify.batch import _arrow_structure, _constraint_values, _largest, kernel_bases
     from manifold import DEFAULT_RTOL
     from classify.metrics import metric_root, proper_values, singular_values, unit_rows
+    from classify.survey import end_effector_reference
     from mechanisms import closure_and_jacobian
 
     manifold = model.manifold
@@ -444,8 +445,9 @@ def stage_times(model, points):
                              lambda: np.broadcast_to(model.end_effector_jacobian(points), (count, n, k)))
         root = metric_root(model.end_effector_metric)
         rows = root @ end_effector
-        stage("end-effector scale σ₁(H½ Df·diag(s)) (all values, an upper bound of the path's cost)",
-              lambda: singular_values(rows * scales))
+        stage("end-effector reference scale: every joint's rate R·diag(s) (end_effector_reference) and σ₁ of "
+              "H½ R·diag(s)",
+              lambda: _largest(end_effector_reference(model, points, rows, root)))
         block = rows @ basis
         stage("end-effector block H½ Df T and its singular values", lambda: singular_values(block))
         skipped = "" if survey.joint_rank < dof else " [skipped: cannot raise the survey's rank]"

@@ -839,11 +839,21 @@ def end_effector_reference(mechanism, point):
     -------
     ndarray, shape=[..., n, r]
         r = the links carrying axes (the ground and the end-effector's link
-        counted) times the most coordinates one of them carries.
+        counted) times the most coordinates one of them carries; for a
+        planar point, ``diag(σ₁, σ₂)`` of R·diag(s) (r = 2: the same
+        singular values, in closed form).
     """
     compiled = _require_end_effector(mechanism)
     point = _as_points(mechanism, point)
     plan = _reference_plan(mechanism)
+    if compiled.space == "planar":
+        return _planar_reference(compiled, plan, point)
+    return _screw_reference(mechanism, compiled, plan, point)
+
+
+def _screw_reference(mechanism, compiled, plan, point):
+    """:func:`end_effector_reference` with matrices, for every space and output: the blocks
+    ``A Ad_{g_c} Ξ⁰_c diag(s_c)`` side by side, shape=[..., n, r]."""
     size = groups.MATRIX_SIZE[compiled.space]
     product = link_pose(mechanism, compiled.end_effector_link, point)                     # [..., s, s]
     poses = np.empty(point.shape[:-1] + (len(plan.carriers), size, size))
@@ -854,6 +864,43 @@ def end_effector_reference(mechanism, point):
     carried = _adjoint(compiled.space, poses) @ plan.twists                               # [..., c, d, w]
     twists = np.moveaxis(carried, -3, -2).reshape(carried.shape[:-3] + (carried.shape[-2], -1))  # [..., d, c·w]
     return _twist_rates(compiled, product) @ twists
+
+
+def _planar_reference(compiled, plan, point):
+    """:func:`end_effector_reference` of a planar mechanism in complex form, shape=[..., n, r] (a point:
+    ``diag(σ₁, σ₂)`` of R·diag(s), [..., 2, 2]).
+
+    With the carriers' poses ``(r, t)`` (:func:`mechanisms._chains.planar_prefixes`), a coordinate's home twist
+    ``(ω, v)`` (v complex, times its scale) moves the end-effector point x at ``z = r v + i ω (x − t)`` (its twist
+    carried, ``(ω, r v − i ω t)``, at x). A point's rows are Re z, Im z, whose Gram has the eigenvalues
+    ``(Σ|z|² ± |Σ z²|) / 2``; an orientation's the rates ω; a pose's ω, Re z, Im z (the frame's body twist turns
+    z by the frame's rotation, which no singular value sees).
+    """
+    batch = point.shape[:-1]
+    angular = plan.twists[:, 0, :].ravel()                                                   # [c·w]
+    if compiled.output == "orientation":
+        return np.broadcast_to(angular, batch + (1, angular.size))
+    rotations = np.ones(batch + (len(plan.carriers),), dtype=complex)
+    translations = np.zeros(batch + (len(plan.carriers),), dtype=complex)
+    groups_at = [(_link_group(compiled, compiled.end_effector_link), np.array([plan.chained - 1]))] \
+        if plan.chained == 2 else []
+    for group, positions in groups_at + [(group, group.chains + plan.chained) for group in plan.carrier_groups]:
+        prefix_rotations, prefix_translations = chains.planar_prefixes(group, point)
+        rotations[..., positions], translations[..., positions] = prefix_rotations[..., -1], prefix_translations[..., -1]
+    rotation, translation = rotations[..., plan.chained - 1], translations[..., plan.chained - 1]
+    home_point = compiled.end_effector_point
+    position = translation if home_point is None else rotation * complex(*home_point[:2]) + translation
+    linear = plan.twists[:, 1, :] + 1j * plan.twists[:, 2, :]                                  # [c, w]
+    rates = rotations[..., None] * linear + 1j * plan.twists[:, 0, :] * (position[..., None, None]
+                                                                         - translations[..., None])
+    rates = rates.reshape(batch + (-1,))
+    if compiled.output == "pose":
+        return np.stack([np.broadcast_to(angular, rates.shape), rates.real, rates.imag], axis=-2)
+    total, twisted = np.sum(np.abs(rates) ** 2, axis=-1), np.abs(np.sum(rates * rates, axis=-1))
+    values = np.zeros(batch + (2, 2))
+    values[..., 0, 0] = np.sqrt(0.5 * (total + twisted))
+    values[..., 1, 1] = np.sqrt(np.maximum(0.5 * (total - twisted), 0.0))
+    return values
 
 
 def _twist_rates(compiled, product):

@@ -203,3 +203,23 @@ def test_a_u_joint_written_the_other_way_round_keeps_the_reference_away_from_hom
                                atol=1e-12)
     values = reference_values(mechanism, point)
     np.testing.assert_allclose(reference_values(other, other_point), values, rtol=1e-12, atol=1e-12 * values[0])
+
+
+@pytest.mark.parametrize("name", ["five-bar", "slider-crank", "planar-six-bar", "watt-six-bar", "planar-3rrr",
+                                  "3-prr"])
+def test_the_planar_complex_form_has_the_singular_values_of_the_screw_columns(name):
+    """A planar mechanism's reference in complex form (a point: diag(σ₁, σ₂) from ``(Σ|z|² ± |Σz²|)/2``, z the
+    complex rates; an orientation: the rates ω; a pose: ω, Re z, Im z) has the singular values of the matrix
+    form's columns ``A Ad_g Ξ⁰ diag(s)``, at points of M walked from home."""
+    from manifold import sample_manifold
+    from mechanisms.kinematics import _reference_plan, _screw_reference
+
+    mechanism = catalogue.entry(name).mechanism()
+    model = model_of(mechanism)
+    points = sample_manifold(model.manifold, np.random.default_rng(1), model.starts, random_count=2, walk_count=6)
+    closed = end_effector_reference(mechanism, points)
+    assert closed.shape[:2] == (len(points), model.end_effector_dimension)
+    columns = _screw_reference(mechanism, kinematics_of(mechanism), _reference_plan(mechanism), points)
+    expected = np.linalg.svd(columns, compute_uv=False)
+    np.testing.assert_allclose(np.linalg.svd(closed, compute_uv=False), expected, rtol=1e-12,
+                               atol=1e-12 * expected.max())
