@@ -826,7 +826,8 @@ def end_effector_reference(mechanism, point):
     of the end-effector frame gives (in the chart of
     :func:`end_effector_jacobian`), the column is A(p) ξ. The coordinates
     carried by one link c make ``A Ad_{g_c} Ξ⁰_c diag(s_c)``: the rows are
-    these blocks side by side, zero-padded (the columns of a ball's three
+    these blocks side by side, zero-padded (a block of more than d columns
+    replaced by d of the same Gram; the columns of a ball's three
     coordinates are its chart's up to a rotation among them, which no
     singular value sees).
 
@@ -839,7 +840,8 @@ def end_effector_reference(mechanism, point):
     -------
     ndarray, shape=[..., n, r]
         r = the links carrying axes (the ground and the end-effector's link
-        counted) times the most coordinates one of them carries; for a
+        counted) times the most coordinates one of them carries (at most
+        the twists' dimension d: 3 or 6); for a
         planar point, ``diag(σ₁, σ₂)`` of R·diag(s) (r = 2: the same
         singular values, in closed form).
     """
@@ -864,6 +866,18 @@ def _screw_reference(mechanism, compiled, plan, point):
     carried = _adjoint(compiled.space, poses) @ plan.twists                               # [..., c, d, w]
     twists = np.moveaxis(carried, -3, -2).reshape(carried.shape[:-3] + (carried.shape[-2], -1))  # [..., d, c·w]
     return _twist_rates(compiled, product) @ twists
+
+
+def _narrowed(twists):
+    """A link's carried twists Ξ [d, w] as at most d columns of the same Gram: where w > d (the Gough–Stewart's
+    platform carries its six balls' 18), Rᵀ of the QR factorisation Ξᵀ = Q R (Ξ Ξᵀ = Rᵀ R) — any matrix of that
+    Gram gives the same singular values once carried and mapped (both are linear). Householder QR is accurate
+    row by row of Ξ (column by column of Ξᵀ), so rotation rows of size 1 beside translation rows of size 10⁶
+    (a mechanism in micrometres) keep their digits, which an eigendecomposition of Ξ Ξᵀ would not."""
+    dimension, width = twists.shape
+    if width <= dimension:
+        return twists
+    return np.linalg.qr(twists.T, mode="r").T
 
 
 def _planar_reference(compiled, plan, point):
@@ -963,7 +977,8 @@ def _adjoint(space, poses):
 class _ReferencePlan:
     """What :func:`end_effector_reference` evaluates: the links carrying axes (the ground and the end-effector's
     link first: `chained` of them), the chains of the others grouped by shape (a group's ``chains`` are positions
-    among them), and the twists each carries times its coordinates' scales [c, d, w] (zero-padded)."""
+    among them), and the twists each carries times its coordinates' scales [c, d, w] (zero-padded; at most d
+    columns of their Gram where a link carries more, :func:`_narrowed`)."""
 
     carriers: tuple
     chained: int
@@ -994,12 +1009,11 @@ def _reference_plan(mechanism):
                 carried.setdefault(link, []).append(scales[index] * groups.vee(space, twist))
         tangent_start += sum(len(element.twists) for element in elements)
     links = (*first, *[link for link in carried if link not in first])
-    width = max(len(vectors) for vectors in carried.values())
     dimension = groups.vee(space, np.zeros((groups.MATRIX_SIZE[space],) * 2)).shape[-1]
-    twists = np.zeros((len(links), dimension, width))
-    for position, link in enumerate(links):
-        for column, vector in enumerate(carried.get(link, [])):
-            twists[position, :, column] = vector
+    blocks = [_narrowed(np.array(carried.get(link, []), dtype=float).reshape(-1, dimension).T) for link in links]
+    twists = np.zeros((len(links), dimension, max(block.shape[1] for block in blocks)))
+    for position, block in enumerate(blocks):
+        twists[position, :, :block.shape[1]] = block
     plan = _ReferencePlan(links, len(first),
                           chains.groups_of(space, [compiled.link_chains[link] for link in links[len(first):]]),
                           twists)
