@@ -10,7 +10,8 @@ is a batched singular-value decomposition:
   tangent basis T (orthonormal for the dimensionless metric);
 * rank of the unit actuator rows on T, cut at ``rtol·σ₁`` of the unrestricted
   rows (a constant of the model);
-* rank of H^½ Df T, cut at ``rtol·σ₁(H^½ Df·diag(s))`` per configuration;
+* rank of H^½ Df T, cut at ``rtol·σ₁(H^½ R·diag(s))`` per configuration (R: every joint's
+  rate at the end-effector, :func:`classify.survey.end_effector_reference`);
 * the manipulability proper values λ, the roots of det(λG − JᵀHJ) = 0
   (:func:`classify.metrics.proper_values`).
 

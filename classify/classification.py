@@ -176,7 +176,7 @@ def classify(mechanism, point, survey=None, rng=None, rtol=DEFAULT_RTOL, length_
     actuator = KindResult(actuator_singular, actuator_decision.rank, expected_actuator, actuator_decision,
                           actuator_kernel, {"on_kernel_of_constraint": True} if cspace_singular else {})
 
-    # end-effector: J = Df T, decided on H^½ J over σ₁(H^½ Df·diag(s))
+    # end-effector: J = Df T, decided on H^½ J over σ₁(H^½ R·diag(s)), R every joint's rate (survey.decision_rows)
     end_effector = None
     if n:
         decision = end_effector_decision
