@@ -841,9 +841,7 @@ def end_effector_reference(mechanism, point):
     ndarray, shape=[..., n, r]
         r = the links carrying axes (the ground and the end-effector's link
         counted) times the most coordinates one of them carries (at most
-        the twists' dimension d: 3 or 6); for a
-        planar point, ``diag(σ₁, σ₂)`` of R·diag(s) (r = 2: the same
-        singular values, in closed form).
+        the twists' dimension d: 3 or 6).
     """
     compiled = _require_end_effector(mechanism)
     point = _as_points(mechanism, point)
@@ -864,7 +862,8 @@ def _screw_reference(mechanism, compiled, plan, point):
     for group in plan.carrier_groups:
         poses[..., group.chains + plan.chained, :, :] = chains.expand_group(compiled.space, group, point, 0)[0]
     carried = _adjoint(compiled.space, poses) @ plan.twists                               # [..., c, d, w]
-    twists = np.moveaxis(carried, -3, -2).reshape(carried.shape[:-3] + (carried.shape[-2], -1))  # [..., d, c·w]
+    count, dimension, width = carried.shape[-3:]
+    twists = np.moveaxis(carried, -3, -2).reshape(carried.shape[:-3] + (dimension, count * width))  # [..., d, c·w]
     return _twist_rates(compiled, product) @ twists
 
 
@@ -881,14 +880,12 @@ def _narrowed(twists):
 
 
 def _planar_reference(compiled, plan, point):
-    """:func:`end_effector_reference` of a planar mechanism in complex form, shape=[..., n, r] (a point:
-    ``diag(σ₁, σ₂)`` of R·diag(s), [..., 2, 2]).
+    """:func:`end_effector_reference` of a planar mechanism in complex form, in Df's chart, shape=[..., n, r].
 
     With the carriers' poses ``(r, t)`` (:func:`mechanisms._chains.planar_prefixes`), a coordinate's home twist
     ``(ω, v)`` (v complex, times its scale) moves the end-effector point x at ``z = r v + i ω (x − t)`` (its twist
-    carried, ``(ω, r v − i ω t)``, at x). A point's rows are Re z, Im z, whose Gram has the eigenvalues
-    ``(Σ|z|² ± |Σ z²|) / 2``; an orientation's the rates ω; a pose's ω, Re z, Im z (the frame's body twist turns
-    z by the frame's rotation, which no singular value sees).
+    carried, ``(ω, r v − i ω t)``, at x). A point's rows are Re z, Im z; an orientation's the rates ω; a pose's
+    body twist ω, Re, Im of ``r̄_F z`` (r_F the frame's rotation), as :func:`_planar_end_effector_columns`.
     """
     batch = point.shape[:-1]
     angular = plan.twists[:, 0, :].ravel()                                                   # [c·w]
@@ -907,14 +904,11 @@ def _planar_reference(compiled, plan, point):
     linear = plan.twists[:, 1, :] + 1j * plan.twists[:, 2, :]                                  # [c, w]
     rates = rotations[..., None] * linear + 1j * plan.twists[:, 0, :] * (position[..., None, None]
                                                                          - translations[..., None])
-    rates = rates.reshape(batch + (-1,))
-    if compiled.output == "pose":
-        return np.stack([np.broadcast_to(angular, rates.shape), rates.real, rates.imag], axis=-2)
-    total, twisted = np.sum(np.abs(rates) ** 2, axis=-1), np.abs(np.sum(rates * rates, axis=-1))
-    values = np.zeros(batch + (2, 2))
-    values[..., 0, 0] = np.sqrt(0.5 * (total + twisted))
-    values[..., 1, 1] = np.sqrt(np.maximum(0.5 * (total - twisted), 0.0))
-    return values
+    rates = rates.reshape(batch + (angular.size,))
+    if compiled.output == "position":
+        return np.stack([rates.real, rates.imag], axis=-2)
+    body = np.conj(rotation)[..., None] * rates
+    return np.stack([np.broadcast_to(angular, rates.shape), body.real, body.imag], axis=-2)
 
 
 def _twist_rates(compiled, product):

@@ -207,10 +207,11 @@ def test_a_u_joint_written_the_other_way_round_keeps_the_reference_away_from_hom
 
 @pytest.mark.parametrize("name", ["five-bar", "slider-crank", "planar-six-bar", "watt-six-bar", "planar-3rrr",
                                   "3-prr"])
-def test_the_planar_complex_form_has_the_singular_values_of_the_screw_columns(name):
-    """A planar mechanism's reference in complex form (a point: diag(σ₁, σ₂) from ``(Σ|z|² ± |Σz²|)/2``, z the
-    complex rates; an orientation: the rates ω; a pose: ω, Re z, Im z) has the singular values of the matrix
-    form's columns ``A Ad_g Ξ⁰ diag(s)``, at points of M walked from home."""
+def test_the_planar_complex_form_is_the_screw_columns_in_dfs_chart(name):
+    """A planar mechanism's reference in complex form (a point: Re z, Im z, z the complex rates; an orientation:
+    the rates ω; a pose: ω and the body rates r̄_F z) is the matrix form's ``A Ad_g Ξ⁰ diag(s)`` in Df's chart: the
+    same singular values under any weighting of the rows (H^½ = diag(1, 10, ...), a model's own metric; a review
+    found a closed form that rotated the rows 0.68 off under diag(1, 100)), at points of M walked from home."""
     from manifold import sample_manifold
     from mechanisms.kinematics import _reference_plan, _screw_reference
 
@@ -218,8 +219,31 @@ def test_the_planar_complex_form_has_the_singular_values_of_the_screw_columns(na
     model = model_of(mechanism)
     points = sample_manifold(model.manifold, np.random.default_rng(1), model.starts, random_count=2, walk_count=6)
     closed = end_effector_reference(mechanism, points)
-    assert closed.shape[:2] == (len(points), model.end_effector_dimension)
     columns = _screw_reference(mechanism, kinematics_of(mechanism), _reference_plan(mechanism), points)
-    expected = np.linalg.svd(columns, compute_uv=False)
-    np.testing.assert_allclose(np.linalg.svd(closed, compute_uv=False), expected, rtol=1e-12,
-                               atol=1e-12 * expected.max())
+    for weights in (np.ones(model.end_effector_dimension), 10.0 ** np.arange(model.end_effector_dimension)):
+        expected = np.linalg.svd(weights[:, None] * columns, compute_uv=False)
+        np.testing.assert_allclose(np.linalg.svd(weights[:, None] * closed, compute_uv=False), expected, rtol=1e-12,
+                                   atol=1e-12 * expected.max())
+
+
+def test_a_planar_point_far_from_its_joints_keeps_its_small_singular_value():
+    """An end-effector point 1e6 lengths from the joints: σ₂ of the reference rows keeps its digits (a closed form
+    (Σ|z|² − |Σz²|)/2 lost 3e-5 of it; a review found it)."""
+    from mechanisms import EndEffector
+    from mechanisms.kinematics import _reference_plan, _screw_reference
+
+    mechanism = catalogue.entry("slider-crank").mechanism()
+    far = Mechanism(mechanism.name, mechanism.space, mechanism.joints, mechanism.ground,
+                    EndEffector(mechanism.end_effector.link, (1e6, 3e5), "position"))
+    point = home(far)
+    expected = np.linalg.svd(_screw_reference(far, kinematics_of(far), _reference_plan(far), point), compute_uv=False)
+    np.testing.assert_allclose(np.linalg.svd(end_effector_reference(far, point), compute_uv=False), expected,
+                               rtol=1e-9)
+
+
+@pytest.mark.parametrize("name", ["five-bar", "planar-3rrr", "gough-stewart", "spherical-3rrr"])
+def test_an_empty_stack_has_an_empty_reference(name):
+    mechanism = catalogue.entry(name).mechanism()
+    empty = np.zeros((0, home(mechanism).size))
+    reference = end_effector_reference(mechanism, empty)
+    assert reference.shape[:2] == (0, end_effector_jacobian(mechanism, empty).shape[1])
