@@ -22,6 +22,32 @@ from manifold import AmbientSpace, ImplicitManifold
 from mechanisms import EndEffector, Joint, Mechanism
 from mechanisms.catalogue import entry
 
+# --------------------------------------------------------------------------- the command
+
+
+def command(arguments, capsys):
+    """(status, stdout, stderr) of ``closedchain ARGUMENTS``, the streams read from pytest's `capsys`."""
+    from classify.cli import main
+
+    status = main(arguments)
+    captured = capsys.readouterr()
+    return status, captured.out, captured.err
+
+
+def command_streams(arguments):
+    """(status, stdout, stderr) of ``closedchain ARGUMENTS`` without a fixture (module-scoped fixtures can use it):
+    stdout is the command's `out` stream, stderr redirected."""
+    import contextlib
+    import io
+
+    from classify.cli import main
+
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stderr(err):
+        status = main(arguments, out=out)
+    return status, out.getvalue(), err.getvalue()
+
+
 # --------------------------------------------------------------------------- shared mechanisms
 
 #: description -> the first mechanism object seen with it (see :func:`shared_mechanism`)

@@ -9,17 +9,12 @@ from pathlib import Path
 import pytest
 import yaml
 
-from classify.cli import InputError, main
+from classify.cli import InputError
 from classify.cli._common import write_output
+from builders import command as run
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 CONTRACT_KEYS = {"mechanism", "dof", "singular", "kinds", "cspace", "actuator", "end_effector", "manipulability"}
-
-
-def run(arguments, capsys):
-    status = main(arguments)
-    captured = capsys.readouterr()
-    return status, captured.out, captured.err
 
 
 def configuration(file, name):

@@ -7,15 +7,9 @@ from pathlib import Path
 
 import pytest
 
-from classify.cli import main
+from builders import command as run
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
-
-
-def run(arguments, capsys):
-    status = main(arguments)
-    captured = capsys.readouterr()
-    return status, captured.out, captured.err
 
 
 def test_compare_json_follows_the_issue(capsys):

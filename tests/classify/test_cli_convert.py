@@ -5,16 +5,10 @@ import json
 
 import pytest
 
-from classify.cli import main
 from builders import ROBOTS, robot_arguments
+from builders import command as run
 
 pytest.importorskip("yourdfpy")
-
-
-def run(arguments, capsys):
-    status = main(arguments)
-    captured = capsys.readouterr()
-    return status, captured.out, captured.err
 
 
 def test_classify_urdf_with_closures_json(capsys):

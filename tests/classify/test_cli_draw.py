@@ -1,16 +1,6 @@
 """``closedchain draw``: a figure file written without a display, bad input refused with exit status 2."""
 
-import contextlib
-import io
-
-from classify.cli import main
-
-
-def run(argv):
-    out, err = io.StringIO(), io.StringIO()
-    with contextlib.redirect_stderr(err):
-        status = main(argv, out=out)
-    return status, out.getvalue(), err.getvalue()
+from builders import command_streams as run
 
 
 def test_draw_writes_a_figure(tmp_path):

@@ -10,16 +10,11 @@ from pathlib import Path
 import pytest
 
 from classify.cli import main, sweep_command
+from builders import command as run
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 COMMAND = [sys.executable, "-m", "classify"]
 OVERWRITTEN = "it would be overwritten"
-
-
-def run(arguments, capsys):
-    status = main(arguments)
-    captured = capsys.readouterr()
-    return status, captured.out, captured.err
 
 
 def refused_once(arguments, capsys, fragment):

@@ -6,18 +6,12 @@ import json
 import numpy as np
 import pytest
 
-from classify.cli import main
+from builders import command as run
 
 QUARTIC_BASE = "0.1,0.2 1.3,-0.4 -0.7,1.1 0.9,1.6 -1.2,-0.8"
 QUARTIC_PLATFORM = "0.3 -1.1 0.6 1.4 -0.2"
 QUADRATIC_BASE = "0,0 2,1 -1,2 1.5,-1.5 -2,-1"
 QUADRATIC_PLATFORM = "0 1 -0.5 0.75 -1"
-
-
-def run(arguments, capsys):
-    status = main(arguments)
-    captured = capsys.readouterr()
-    return status, captured.out, captured.err
 
 
 def test_json_of_a_quartic_design_with_assembly_modes(capsys):

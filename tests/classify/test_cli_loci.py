@@ -1,21 +1,12 @@
 """``closedchain loci``: the JSON contract, and each configuration given back as ``--at`` reproduces the verdict
 through ``closedchain classify``."""
 
-import contextlib
-import io
 import json
 import re
 
 import pytest
 
-from classify.cli import main
-
-
-def run(argv):
-    out, err = io.StringIO(), io.StringIO()
-    with contextlib.redirect_stderr(err):
-        status = main(argv, out=out)
-    return status, out.getvalue(), err.getvalue()
+from builders import command_streams as run
 
 
 @pytest.fixture(scope="module")

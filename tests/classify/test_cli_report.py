@@ -11,14 +11,9 @@ from classify.cli import main
 from classify.cli.report_command import CONFIGURATION_PARAMETERS, JOINT_OUTPUTS, _catalogue_tasks, _layout
 from classify.comparison import REASONS
 from mechanisms.catalogue import entries, entry
+from builders import command as run
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
-
-
-def run(arguments, capsys):
-    status = main(arguments)
-    captured = capsys.readouterr()
-    return status, captured.out, captured.err
 
 
 @pytest.fixture(scope="module")

@@ -8,19 +8,13 @@ from pathlib import Path
 
 import pytest
 
-from classify.cli import main
 from classify.cli.report_command import _configurations, _Task
 from builders import ROBOTS, robot_arguments
+from builders import command as run
 
 EXAMPLES = Path(__file__).resolve().parents[2] / "examples"
 
 pytest.importorskip("yourdfpy")
-
-
-def run(arguments, capsys):
-    status = main(arguments)
-    captured = capsys.readouterr()
-    return status, captured.out, captured.err
 
 
 def test_report_on_a_urdf_with_closures_gives_one_row_at_the_closed_configuration(capsys):

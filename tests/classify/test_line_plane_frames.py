@@ -8,22 +8,16 @@ import numpy as np
 import pytest
 import yaml
 
-from classify.cli import main
 from classify.line_plane import (
     b_infinity, b_line, b_point, design_from_mechanism, lambda_plus, line_plane_design, move_platform,
     singularity_reading)
 from mechanisms.io import load
+from builders import command as run
 
 QUARTIC_BASE = np.array([[0.1, 0.2], [1.3, -0.4], [-0.7, 1.1], [0.9, 1.6], [-1.2, -0.8]])
 QUARTIC_PLATFORM = np.array([0.3, -1.1, 0.6, 1.4, -0.2])
 POSE = (np.array([0.2, 0.4, 1.5]), np.array([0.3, -0.2, 0.9]) / np.linalg.norm([0.3, -0.2, 0.9]))
 SHIFTS = (10.0, 100.0, 1000.0, 1e4)
-
-
-def run(arguments, capsys):
-    status = main(arguments)
-    captured = capsys.readouterr()
-    return status, captured.out, captured.err
 
 
 # ------------------------------------------------------------------------------------------------ mechanism files

@@ -1,14 +1,12 @@
 """Fixes from a new-user audit: the default grid and sections of a locus over slide coordinates, the hint of a
 sparse grid, the message for a misspelt link and the ``--at`` message for a configuration that does not close."""
 
-import contextlib
-import io
 import json
 
 import numpy as np
 import pytest
 
-from classify.cli import main
+from builders import command_streams as run
 
 #: the audit's planar 3-RPR (P joints actuated): base A_i, platform points B_i about O turned 0.5 rad; legs ~1.9
 #: long, characteristic length ~4.3
@@ -40,13 +38,6 @@ joints:
   - {name: C, type: R, links: [coupler, rocker], point: [2, 1.5]}
   - {name: D, type: R, links: [rocker, ground], point: [2.5, 0]}
 """
-
-
-def run(argv):
-    out, err = io.StringIO(), io.StringIO()
-    with contextlib.redirect_stderr(err):
-        status = main(argv, out=out)
-    return status, out.getvalue(), err.getvalue()
 
 
 @pytest.fixture(scope="module")

@@ -7,16 +7,10 @@ import json
 import numpy as np
 
 from classify import Model, classify, model_of
-from classify.cli import main
 from classify.paths import follow_path, path_configurations, singular_crossings
 from manifold import AmbientSpace, ImplicitManifold, project, tangent_basis
 from mechanisms.catalogue import entry
-
-
-def run(arguments, capsys):
-    status = main(arguments)
-    captured = capsys.readouterr()
-    return status, captured.out, captured.err
+from builders import command as run
 
 
 def diagonal_model(rate):
