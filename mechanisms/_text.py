@@ -298,7 +298,7 @@ def _core_text(loader, node):
     """The scalar text of `node`, refused unless the YAML 1.2 core schema reads it as the node's type."""
     text = loader.construct_scalar(node)
     pattern, what = _CORE_TEXT[node.tag]
-    if not isinstance(text, str) or pattern.fullmatch(text) is None:
+    if pattern.fullmatch(text) is None:
         shown = "!!" + node.tag[len(_YAML_PREFIX):]
         raise yaml.constructor.ConstructorError(
             None, None, f"{shown} {_describe(text)} is not {what} of the YAML 1.2 core schema", node.start_mark)

@@ -897,10 +897,10 @@ def _planar_reference(compiled, plan, point):
         if plan.chained == 2 else []
     for group, positions in groups_at + [(group, group.chains + plan.chained) for group in plan.carrier_groups]:
         prefix_rotations, prefix_translations = chains.planar_prefixes(group, point)
-        rotations[..., positions], translations[..., positions] = prefix_rotations[..., -1], prefix_translations[..., -1]
+        rotations[..., positions] = prefix_rotations[..., -1]
+        translations[..., positions] = prefix_translations[..., -1]
     rotation, translation = rotations[..., plan.chained - 1], translations[..., plan.chained - 1]
-    home_point = compiled.end_effector_point
-    position = translation if home_point is None else rotation * complex(*home_point[:2]) + translation
+    position = _planar_point(compiled, rotation, translation)
     linear = plan.twists[:, 1, :] + 1j * plan.twists[:, 2, :]                                  # [c, w]
     rates = rotations[..., None] * linear + 1j * plan.twists[:, 0, :] * (position[..., None, None]
                                                                          - translations[..., None])
@@ -1027,8 +1027,7 @@ def _planar_end_effector_columns(compiled, group, point):
     rotation, translation = rotations[..., 0, -1], translations[..., 0, -1]
     angular, linear = chains.planar_twists(group, rotations, translations)
     angular, linear = angular[0], linear[..., 0, :]                      # [C], [..., C]
-    home_point = compiled.end_effector_point
-    position = translation if home_point is None else rotation * complex(*home_point[:2]) + translation
+    position = _planar_point(compiled, rotation, translation)
     moved = linear + 1j * angular * position[..., None]
     if compiled.output == "position":
         return np.stack([moved.real, moved.imag], axis=-1)
@@ -1037,6 +1036,13 @@ def _planar_end_effector_columns(compiled, group, point):
         return spin[..., None]
     body = np.conj(rotation)[..., None] * moved
     return np.stack([spin, body.real, body.imag], axis=-1)
+
+
+def _planar_point(compiled, rotation, translation):
+    """The end-effector point of a planar link at pose ``(rotation, translation)`` (complex), its origin without
+    an end-effector point."""
+    home_point = compiled.end_effector_point
+    return translation if home_point is None else rotation * complex(*home_point[:2]) + translation
 
 
 def _end_effector_columns(compiled, product, derivative):

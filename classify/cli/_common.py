@@ -371,12 +371,9 @@ def warn_if_serial(mechanism):
     """A warning on stderr for a mechanism without loops (e.g. a URDF read without its --closures), naming its free
     end links: two that differ in a digit (``distal2``, ``distal3``) may be one misspelt name that opened a loop."""
     if mechanism.loop_count == 0:
-        joints_of = {}
-        for joint in mechanism.joints:
-            for link in joint.links:
-                joints_of.setdefault(link, []).append(joint.name)
-        ends = [f"{printable(link)} (joint {printable(names[0])})" for link, names in joints_of.items()
-                if len(names) == 1 and link != mechanism.ground]
+        graph = mechanism.graph  # links joined by joints, keyed by joint name
+        ends = [f"{printable(link)} (joint {printable(joint)})" for link in graph
+                if link != mechanism.ground and graph.degree(link) == 1 for *_, joint in graph.edges(link, keys=True)]
         shown = ", ".join(ends[:_LISTED_ENDS]) + (", ..." if len(ends) > _LISTED_ENDS else "")
         print(f"closedchain: warning: {printable(mechanism.name)} has no loop (a serial chain; free end "
               f"link{'s' if len(ends) > 1 else ''}: {shown})", file=sys.stderr)
