@@ -256,13 +256,20 @@ def malformed_cases():
     return MALFORMED_CASES
 
 
+#: files of a few long tests (6-12 s in all each, measured): started early, not last, so that no worker is left
+#: alone with one of them at the end of the run
+_FEW_LONG_TESTS = ("tests/classify/test_report_pictures.py", "tests/classify/test_html_report_browser.py",
+                   "tests/classify/test_characteristic_length_search.py", "tests/classify/test_idle_lost_directions.py")
+
+
 def pytest_collection_modifyitems(items):
     """Order the run for ``pytest -n auto --dist loadfile`` (with ``--no-loadscope-reorder``): the docs build
     (``tests/test_docs.py``, the longest single test) first, so one worker starts it while the other takes the
-    rest; then the files by decreasing number of tests (xdist's own default order), each file's tests in
-    their own order."""
+    rest; then the files of a few long tests (:data:`_FEW_LONG_TESTS`), then the others by decreasing number of
+    tests (xdist's own default order), each file's tests in their own order."""
     by_file = {}
     for item in items:
         by_file.setdefault(item.nodeid.split("::")[0], []).append(item)
-    files = sorted(by_file, key=lambda name: (not name.endswith("tests/test_docs.py"), -len(by_file[name])))
+    files = sorted(by_file, key=lambda name: (not name.endswith("tests/test_docs.py"),
+                                              not name.endswith(_FEW_LONG_TESTS), -len(by_file[name])))
     items[:] = [item for name in files for item in by_file[name]]
