@@ -31,8 +31,9 @@ def _build(builder, tmp_path, doctrees):
 
 @pytest.fixture(scope="module")
 def doctrees(tmp_path_factory):
-    """One Sphinx environment for both builds (``-d``, as the Makefile of ``sphinx-quickstart`` shares it between builders): the second build re-reads
-    only the pages whose sources or inputs changed, not every page with its autodoc (about 9 s)."""
+    """One Sphinx environment for both builds (``-d``, as the Makefile of ``sphinx-quickstart`` shares it between
+    builders): the second build re-reads only the pages whose sources or inputs changed, not every page with its
+    autodoc (about 9 s)."""
     return tmp_path_factory.mktemp("doctrees")
 
 
