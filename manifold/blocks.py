@@ -26,6 +26,7 @@ from .rank import numerical_rank, rank_of_values
 __all__ = [
     "BlockGroup", "JacobianPattern", "PseudoInverse", "scaled_blocks", "decompose", "block_rank",
     "block_vectors", "dense_basis", "sparse_basis", "pseudo_inverse", "apply_pseudo_inverse", "cap_block_steps",
+    "minimum_norm_solutions",
 ]
 
 
@@ -97,6 +98,20 @@ class JacobianPattern:
         matrices = np.zeros(entries.shape[:-1] + self.shape)
         matrices[..., self.rows, self.columns] = entries
         return matrices
+
+    def restricted(self, columns):
+        """The pattern of the columns `columns` of DΦ (in that order), and which of this pattern's entries it
+        keeps, in its order: ``(JacobianPattern of shape (c, len(columns)), indices [nnz'])``.
+
+        >>> pattern, kept = JacobianPattern((2, 3), [0, 0, 1], [0, 1, 2]).restricted([2, 1])
+        >>> pattern.rows.tolist(), pattern.columns.tolist(), kept.tolist()
+        ([0, 1], [1, 0], [1, 2])
+        """
+        columns = np.asarray(columns, dtype=np.intp)
+        place = np.full(self.shape[1], -1, dtype=np.intp)
+        place[columns] = np.arange(len(columns))
+        kept = np.flatnonzero(place[self.columns] >= 0)
+        return JacobianPattern((self.shape[0], len(columns)), self.rows[kept], place[self.columns[kept]]), kept
 
     @cached_property
     def _components(self):
@@ -350,3 +365,52 @@ def cap_block_steps(pattern, step, max_step, scales):
         norms = np.linalg.norm(step[group.columns] / scales[group.columns], axis=-1)  # [b]
         factors = np.minimum(1.0, max_step / np.maximum(norms, np.finfo(float).tiny))
         step[group.columns] *= factors[:, None]
+
+
+def minimum_norm_solutions(pattern, entries, scales, right_hand_side, rcond, sparse_columns=None):
+    """The minimum-norm least-squares solutions u of ``J u = b`` for a stack of ``J = DΦ·diag(s)`` given by their
+    entries at `pattern`, block by block (:func:`pseudo_inverse` and :func:`apply_pseudo_inverse` for each
+    matrix, blocks of one shape of every matrix in one batched SVD).
+
+    Singular values at most ``rcond · σ₁`` (σ₁ of each whole matrix) count as zero, as in
+    ``numpy.linalg.pinv``: the solutions are ``J⁺ b`` of the dense matrices, to rounding. Blocks with more
+    than `sparse_columns` columns (if given) are left to LSQR, one matrix at a time.
+
+    Parameters
+    ----------
+    pattern : JacobianPattern
+        Of shape ``(c, k)``.
+    entries : array_like, shape=[n, nnz]
+    scales : array_like, shape=[k]
+    right_hand_side : array_like, shape=[n, c]
+    rcond : float
+    sparse_columns : int, optional
+
+    Returns
+    -------
+    solutions : ndarray, shape=[n, k]
+    """
+    entries = np.asarray(entries, dtype=float)
+    right_hand_side = np.asarray(right_hand_side, dtype=float)
+    scales = np.asarray(scales, dtype=float)
+    count = len(entries)
+    padded = np.concatenate([entries, np.zeros((count, 1))], axis=1)
+    dense, iterative, largest = [], [], np.zeros(count)
+    for group in pattern.blocks:
+        blocks = padded[:, group.positions] * scales[group.columns][:, None, :]    # [n, b, r, q]
+        if sparse_columns is not None and group.columns.shape[1] > sparse_columns:
+            iterative.append((group, blocks))
+            continue
+        left, values, right = np.linalg.svd(blocks, full_matrices=False)
+        dense.append((group, left, values, right))
+        largest = np.maximum(largest, values.max(axis=(1, 2), initial=0.0))
+    solutions = np.zeros((count, pattern.shape[1]))
+    for group, left, values, right in dense:
+        reciprocal = np.divide(1.0, values, out=np.zeros_like(values), where=values > rcond * largest[:, None, None])
+        projected = np.swapaxes(left, -1, -2) @ right_hand_side[:, group.rows][..., None]    # [n, b, s, 1]
+        solutions[:, group.columns] = (np.swapaxes(right, -1, -2) @ (reciprocal[..., None] * projected))[..., 0]
+    for group, blocks in iterative:
+        for index in range(count):
+            inverse = PseudoInverse(pattern.shape, (), ((group, blocks[index]),), rcond)
+            solutions[index] += apply_pseudo_inverse(inverse, right_hand_side[index])
+    return solutions

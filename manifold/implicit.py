@@ -25,7 +25,9 @@ grows with the blocks, not with k². Below the threshold everything is dense,
 as for any manifold without a pattern. D²Φ is contracted by
 ``constraint_hessian_form`` where the manifold gives one
 (:func:`hessian_form`), never formed as a c×k×k array.
-:func:`project_many` projects a stack of points at once (dense Jacobians).
+:func:`project_many` projects a stack of points at once, and
+:func:`minimum_norm_steps` gives Gauss-Newton's steps for a stack, block by
+block there too (blocks of one shape of every point in one batched SVD).
 """
 
 from __future__ import annotations
@@ -53,6 +55,7 @@ __all__ = [
     "hessian_form",
     "project",
     "project_many",
+    "minimum_norm_steps",
     "tangent_basis",
     "sparse_tangent_basis",
     "normal_basis",
@@ -235,8 +238,9 @@ def project(manifold, point, tolerance=1e-12, max_iterations=60, max_step=None, 
     max_step : float, optional
         Largest allowed dimensionless norm ``‖step / s‖`` of one step (a
         capped iteration: radians and lengths over their scale, so that the
-        cap does not depend on the unit of length); default unlimited. For a manifold handled block by block, the largest norm
-        of each block's part of the step: the blocks are independent
+        cap does not depend on the unit of length); default unlimited. For
+        a manifold handled block by block, the largest norm of each block's
+        part of the step: the blocks are independent
         problems, and one cap on the whole step would slow each block down
         by the number of the others.
     damped : bool
@@ -336,8 +340,9 @@ def project_many(manifold, points, tolerance=1e-12, max_iterations=60):
     """Gauss-Newton projection of a stack of points onto M, all at once: :func:`project` point by point.
 
     Every point whose residual exceeds `tolerance` iterates
-    ``p ← p ⊕ (−s·(DΦ(p)·s)⁺ Φ(p))`` (one batched pseudo-inverse of the dense
-    Jacobians per iteration) until ``|Φ(p)| ≤ tolerance``; a point that
+    ``p ← p ⊕ (−s·(DΦ(p)·s)⁺ Φ(p))`` (:func:`minimum_norm_steps`: one batched
+    pseudo-inverse per iteration, of the dense Jacobians or block by block)
+    until ``|Φ(p)| ≤ tolerance``; a point that
     reaches it (or whose residual is not finite) stops moving. Unlike
     :func:`project` nothing is raised: the points that did not converge are
     reported, and ``manifold.is_solution`` (which takes one point) is not
@@ -380,14 +385,58 @@ def project_many(manifold, points, tolerance=1e-12, max_iterations=60):
         active, values = active[keep], values[keep]
         if not len(active):
             break
-        jacobian = np.asarray(manifold.constraint_jacobian(projected[active]), dtype=float) * scales
-        steps = -scales * np.einsum("akc,ac->ak", np.linalg.pinv(jacobian, rcond=STEP_RCOND), values)
+        steps = -scales * minimum_norm_steps(manifold, projected[active], values)
         projected[active] = ambient.retract(projected[active], steps)
         values = np.asarray(manifold.constraint(projected[active]), dtype=float).reshape(len(active), -1)
     norms = np.linalg.norm(np.asarray(manifold.constraint(projected), dtype=float).reshape(len(projected), -1),
                            axis=-1)
     shape = requested.shape[:-1]
     return projected.reshape(requested.shape), (norms <= tolerance).reshape(shape)
+
+
+def minimum_norm_steps(manifold, points, values, columns=None, rcond=STEP_RCOND):
+    """The dimensionless minimum-norm least-squares solutions u of ``DΦ(p)[:, columns]·diag(s[columns]) u = b``
+    at a stack of points: Gauss-Newton's steps ``−s·u`` where ``b = Φ(p)``.
+
+    Singular values at most ``rcond · σ₁`` count as zero, as in
+    ``numpy.linalg.pinv``. Where the manifold is handled block by block
+    (:data:`BLOCK_THRESHOLD`), the blocks of DΦ's `columns` are solved apart
+    (:func:`manifold.blocks.minimum_norm_solutions`: memory and time grow
+    with the blocks, not with c × k per point); else one batched
+    pseudo-inverse of the dense Jacobians.
+
+    Parameters
+    ----------
+    manifold : ImplicitManifold
+        Its ``constraint_jacobian`` (or ``constraint_jacobian_entries``) must take stacks of points.
+    points : array_like, shape=[n, point_size]
+    values : array_like, shape=[n, c]
+        The right-hand sides b.
+    columns : array_like of int, shape=[r], optional
+        The tangent coordinates that move (default all; the others are held).
+    rcond : float
+
+    Returns
+    -------
+    steps : ndarray, shape=[n, r]
+
+    Examples
+    --------
+    >>> circle = ImplicitManifold(AmbientSpace(("R", "R")), lambda p: (p ** 2).sum(-1, keepdims=True) - 1,
+    ...                           lambda p: 2 * p[..., None, :])
+    >>> minimum_norm_steps(circle, [[2.0, 0.0]], [[3.0]]).tolist()
+    [[0.75, 0.0]]
+    """
+    ambient = manifold.ambient
+    columns = np.arange(ambient.dim) if columns is None else np.asarray(columns, dtype=np.intp)
+    scales = ambient.tangent_scales[columns]
+    points, values = np.asarray(points, dtype=float), np.asarray(values, dtype=float)
+    if _blocked(manifold):
+        pattern, kept = manifold.pattern.restricted(columns)
+        entries = np.asarray(manifold.constraint_jacobian_entries(points), dtype=float)[..., kept]
+        return blocks_module.minimum_norm_solutions(pattern, entries, scales, values, rcond, SPARSE_BLOCK_COLUMNS)
+    jacobian = np.asarray(manifold.constraint_jacobian(points), dtype=float)[..., columns] * scales
+    return np.einsum("nkc,nc->nk", np.linalg.pinv(jacobian, rcond=rcond), values)
 
 
 # --------------------------------------------------------------------------- bases

@@ -106,7 +106,7 @@ from typing import Optional
 
 import numpy as np
 
-from manifold import AmbientSpace, ImplicitManifold, continue_curve, numerical_rank
+from manifold import AmbientSpace, ImplicitManifold, continue_curve, minimum_norm_steps, numerical_rank
 
 from .configuration import from_displacements, home, to_displacements, validate_displacements
 from .errors import ConfigurationError, MechanismError
@@ -209,11 +209,17 @@ class _Problem:
         mechanism, columns = self.mechanism, self.free_tangent
         space = configuration_space(mechanism)
         space = space.closing if closing else space
+        pattern, kept = space.pattern.restricted(columns)  # DΦ's blocks on the free columns, for large fibres
+
+        def entries(free):
+            return space.constraint_jacobian_entries(self.embed(free, base))[..., kept]
+
         return ImplicitManifold(
             ambient=self.reduced,
             constraint=lambda free: space.constraint(self.embed(free, base)),
             constraint_jacobian=lambda free: space.constraint_jacobian(self.embed(free, base))[..., columns],
-            is_solution=lambda free: bool(np.all(closes(mechanism, self.embed(free, base), np.inf))))
+            is_solution=lambda free: bool(np.all(closes(mechanism, self.embed(free, base), np.inf))),
+            pattern=pattern, constraint_jacobian_entries=entries)
 
 
 def _holdable(mechanism):
@@ -330,8 +336,7 @@ def _newton(fibre, starts, tolerance, max_iterations=60, max_step=0.5):
         rows = np.flatnonzero(active)
         if not rows.size:
             break
-        jacobian = np.asarray(fibre.constraint_jacobian(points[rows]), dtype=float) * scales
-        steps = -np.einsum("arc,ac->ar", np.linalg.pinv(jacobian, rcond=1e-12), values[rows])
+        steps = -minimum_norm_steps(fibre, points[rows], values[rows], rcond=1e-12)  # block by block if large
         lengths = np.linalg.norm(steps, axis=-1)
         steps *= np.minimum(1.0, max_step / np.maximum(lengths, 1e-300))[:, None]
         fraction = np.ones(rows.size)
@@ -395,10 +400,10 @@ def _continuation(problem, tolerance, max_steps=2000):
         goal = min(1.0, reached + step)
         base = problem.target if goal == 1.0 else ambient.retract(problem.home, goal * delta)
         jacobian = constraint_jacobian(mechanism, current)
-        free_jacobian = jacobian[:, problem.free_tangent] * scales
         motion = jacobian[:, problem.held_tangent] @ ((goal - reached) * delta[problem.held_tangent])
-        predicted = problem.reduced.retract(current[problem.free_points],
-                                            -scales * (np.linalg.pinv(free_jacobian, rcond=1e-12) @ motion))
+        solved = minimum_norm_steps(configuration_space(mechanism), current[None], motion[None],
+                                    columns=problem.free_tangent, rcond=1e-12)[0]  # block by block if large
+        predicted = problem.reduced.retract(current[problem.free_points], -scales * solved)
         fibre = problem.fibre(base)
         corrected, residual = _newton(fibre, predicted[None], tolerance, max_iterations=25, max_step=0.1)
         move = np.linalg.norm(problem.reduced.inverse_retract(predicted, corrected[0]) / scales)

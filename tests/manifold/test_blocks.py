@@ -14,8 +14,8 @@ from manifold import (
     tangent_basis,
 )
 from manifold.blocks import (
-    apply_pseudo_inverse, block_rank, block_vectors, cap_block_steps, decompose, dense_basis, pseudo_inverse,
-    scaled_blocks, sparse_basis,
+    apply_pseudo_inverse, block_rank, block_vectors, cap_block_steps, decompose, dense_basis, minimum_norm_solutions,
+    pseudo_inverse, scaled_blocks, sparse_basis,
 )
 
 
@@ -78,6 +78,29 @@ def test_block_pseudo_inverse_solves_as_the_dense_one(singular, sparse_columns):
     expected = np.einsum("kc,cij->kij", np.linalg.pinv(dense, rcond=1e-12), right_hand_side)
     assert solution.shape == (9, 2, 3)
     np.testing.assert_allclose(solution, expected, atol=1e-12 if sparse_columns is None else 1e-9)
+
+
+@pytest.mark.parametrize("sparse_columns", [None, 0])
+@pytest.mark.parametrize("singular", [False, True])
+def test_stacked_minimum_norm_solutions_are_the_dense_pseudo_inverses(singular, sparse_columns):
+    """Of a stack of matrices (each its own cut rcond·σ₁: one block of one matrix lies below it) and of some
+    columns only (the others held): ``J⁺ b`` of each dense matrix."""
+    rng = np.random.default_rng(33)
+    manifold, dense = linear_manifold(rng, singular)
+    pattern, scales = manifold.pattern, manifold.ambient.tangent_scales
+    entries = dense[pattern.rows, pattern.columns] / scales[pattern.columns]
+    stack = entries * rng.uniform(0.1, 10.0, (4, 1))  # four multiples of A
+    if sparse_columns is None:  # LSQR solves a block whatever its size: no cut relative to the whole matrix
+        stack[1, np.isin(pattern.rows, [0, 1])] *= 1e-13  # the first block of matrix 1 below its cut: ignored
+    right_hand_side = rng.standard_normal((4, 8))
+    for columns in (np.arange(9), np.array([8, 0, 4, 3, 7, 1])):
+        restricted, kept = pattern.restricted(columns)
+        solutions = minimum_norm_solutions(restricted, stack[:, kept], scales[columns], right_hand_side, 1e-12,
+                                           sparse_columns)
+        matrices = pattern.dense(stack)[..., columns] * scales[columns]
+        expected = np.einsum("nkc,nc->nk", np.linalg.pinv(matrices, rcond=1e-12), right_hand_side)
+        assert solutions.shape == (4, len(columns))
+        np.testing.assert_allclose(solutions, expected, atol=1e-12 if sparse_columns is None else 1e-9)
 
 
 def test_capped_steps_keep_each_block_within_the_cap():

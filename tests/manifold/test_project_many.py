@@ -89,3 +89,27 @@ def test_an_empty_stack_is_projected_to_an_empty_stack():
                               lambda p: 2 * p[..., None, :])
     projected, reached = project_many(circle, np.zeros((0, 2)))
     assert projected.shape == (0, 2) and reached.shape == (0,)
+
+
+def test_a_large_mechanism_is_projected_block_by_block_as_point_by_point():
+    """Past BLOCK_THRESHOLD coordinates the batch solves DΦ's blocks apart (manifold.minimum_norm_steps): it
+    never forms the dense c × k Jacobians of the stack (at k = 1000, 25 points took 660 MB that way), and
+    reaches the points the single projection reaches."""
+    import dataclasses
+
+    from builders import ladder
+    from manifold.implicit import BLOCK_THRESHOLD
+
+    rng = np.random.default_rng(41)
+    mechanism = ladder(20, tail=1)
+    manifold = configuration_space(mechanism)
+    assert manifold.ambient.dim >= BLOCK_THRESHOLD
+
+    def dense(point):
+        raise AssertionError("the dense Jacobian of a stack was formed")
+
+    starts = starts_near_home(mechanism, rng, (5,))
+    projected, reached = project_many(dataclasses.replace(manifold, constraint_jacobian=dense), starts)
+    assert reached.all()
+    for start, point in zip(starts, projected):
+        np.testing.assert_allclose(point, project(manifold, start), atol=1e-10)

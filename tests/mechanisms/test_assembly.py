@@ -411,3 +411,30 @@ def test_the_smallest_residual_of_a_failed_assembly_is_no_half_turn_zero():
     # half-turn zero: it was said to be one
     with pytest.raises(AssemblyError, match="smallest residual"):
         assemble(mechanism, {"R4": -0.4624188365889781}, rng=np.random.default_rng(0), count=1)
+
+
+def test_a_large_mechanism_is_assembled_block_by_block_as_densely(monkeypatch):
+    """Past BLOCK_THRESHOLD free coordinates Gauss-Newton from the random starts solves the blocks of DΦ apart
+    (manifold.minimum_norm_steps): no stack of dense c × r Jacobians (128 of them for the 100-loop ladder took
+    60 s and 0.5 GB), and the same assemblies as the dense solves."""
+    from builders import ladder
+    from manifold import JacobianPattern, implicit
+
+    mechanism = ladder(22)  # 88 joints, 66 free once the 22 actuated ones are held
+    held = {"A1": 0.1, "A2": -0.05}
+    stacks = []
+    dense = JacobianPattern.dense
+
+    def recorded(pattern, entries):
+        stacks.append(np.ndim(entries) - 1)
+        return dense(pattern, entries)
+
+    monkeypatch.setattr(JacobianPattern, "dense", recorded)
+    found = assemblies(mechanism, held, count=32)
+    assert max(stacks, default=0) == 0  # single configurations only
+    monkeypatch.setattr(implicit, "BLOCK_THRESHOLD", 10 ** 9)  # the dense solves
+    expected = assemblies(mechanism, held, count=32)
+    assert len(found) == len(expected) > 1
+    for block, solved in zip(found, expected):
+        assert block.method == solved.method and block.distance == pytest.approx(solved.distance, abs=1e-9)
+        np.testing.assert_allclose(block.point, solved.point, atol=1e-9)
