@@ -533,10 +533,12 @@ def rotation_blocks(mechanism, point):
     compiled = kinematics_of(mechanism)
     point = _as_points(mechanism, point)
     ambient = compiled.ambient
+    # each factor's position among the point's slices, keyed by (start, stop): a slice has no hash before 3.12
+    positions = {(part.start, part.stop): index for index, part in enumerate(ambient.point_slices)}
     names, parts = [], []
     for name, slices in compiled.point_parts.items():
         for part in slices:
-            if ambient.factors[ambient.point_slices.index(part)] == "SO3":
+            if ambient.factors[positions[part.start, part.stop]] == "SO3":
                 names.append(name)
                 parts.append(part)
     if not parts:
@@ -626,6 +628,64 @@ def link_pose(mechanism, link, point):
     compiled = kinematics_of(mechanism)
     point = _as_points(mechanism, point)
     return chains.expand_group(compiled.space, _link_group(compiled, link), point, 0)[0][..., 0, :, :]
+
+
+def link_poses(mechanism, point):
+    """The pose of every link, as :func:`link_pose`, in one pass over the spanning tree.
+
+    :func:`link_pose` multiplies the element matrices of the whole path from
+    the ground, O(depth) for one link and O(k²) for all of them along a chain
+    of k joints. Here each link's pose is its parent's on the tree (the tree
+    of :func:`mechanisms._chains.chains_of`: its joints are those that are no
+    chord) times the element matrices of the tree joint between them, in the
+    order :func:`link_pose` multiplies them, so the poses are the same, and
+    all of them cost O(k).
+
+    Parameters
+    ----------
+    mechanism : Mechanism
+    point : ndarray, shape=[..., point_size]
+
+    Returns
+    -------
+    dict of str to ndarray, shape=[..., n, n]
+        Link name -> pose, for the ground (the identity) and every link the tree reaches, in breadth-first order.
+    """
+    compiled = kinematics_of(mechanism)
+    point = _as_points(mechanism, point)
+    space, chords = compiled.space, set(compiled.chords)
+    size = groups.MATRIX_SIZE[space]
+    joint_elements, incident, tangent_start = [], {}, 0
+    for index, joint in enumerate(mechanism.joints):
+        joint_elements.append(chains.elements_of_joint(mechanism, joint, compiled.point_parts[joint.name],
+                                                       tangent_start))
+        tangent_start += sum(len(element.twists) for element in joint_elements[-1])
+        if joint.name not in chords:
+            for link in dict.fromkeys(joint.links):
+                incident.setdefault(link, []).append(index)
+    steps, order, reached = [], [mechanism.ground], {mechanism.ground}  # steps: (link, parent, (joint, forward))
+    for link in order:  # grows while it is read: breadth-first from the ground
+        for index in incident.get(link, ()):
+            joint = mechanism.joints[index]
+            other = joint.links[1] if joint.links[0] == link else joint.links[0]
+            if other in reached:
+                continue
+            steps.append((other, link, (index, joint.links[0] == link)))
+            order.append(other)
+            reached.add(other)
+    step_chains = [chains.traverse(joint_elements, [step]) for _, _, step in steps]
+    located = {}  # step number -> (element matrices of its group [..., g, L, n, n], row in the group)
+    for group in chains.groups_of(space, step_chains):
+        matrices = chains.element_matrices(space, group, point)
+        located.update((number, (matrices, row)) for row, number in enumerate(group.chains))
+    poses = {mechanism.ground: np.broadcast_to(np.eye(size), point.shape[:-1] + (size, size)).copy()}
+    for number, (link, parent, _) in enumerate(steps):
+        matrices, row = located[number]
+        pose = poses[parent]
+        for position in range(matrices.shape[-3]):
+            pose = pose @ matrices[..., row, position, :, :]
+        poses[link] = pose
+    return poses
 
 
 def actuator_jacobian(mechanism):

@@ -22,6 +22,13 @@ characteristic length (of the unit sphere's radius, 1, for a spherical
 mechanism). Places that do not
 move (speed below 1e-6 of the largest) get no arrow.
 
+Cost. The links' poses come from one pass over the spanning tree
+(:func:`mechanisms.kinematics.link_poses`), for a stack of configurations at
+once: the configuration and its two displacements along every lost
+direction. A drawing of k joints with m lost directions costs O(k) array
+operations on stacks of 2m + 1 configurations, not one chain product from
+the ground per joint and direction (O(k² m)).
+
 Every artist carries a ``gid`` for the tests and for later pages (the
 gallery, the HTML report): ``link:NAME``, ``ground``, ``guide:JOINT``,
 ``joint:NAME`` (passive), ``actuated:NAME``, ``end-effector``,
@@ -62,17 +69,30 @@ def _home_place(mechanism, joint):
     return np.append(np.asarray(joint.point, dtype=float), 1.0)
 
 
-def _carry(mechanism, link, home, points):
-    """`home` (homogeneous point, or unit axis on the sphere) carried by the pose of `link`, shape=[n, d]."""
-    from mechanisms.kinematics import link_pose
+def _carry(mechanism, poses, link, home):
+    """`home` (homogeneous point, or unit axis on the sphere) carried by the pose of `link`, shape=[n, d].
 
-    if link == mechanism.ground:
-        pose = np.broadcast_to(np.eye(3 if mechanism.space != "spatial" else 4), points.shape[:-1] + (
-            (3, 3) if mechanism.space != "spatial" else (4, 4)))
-    else:
-        pose = link_pose(mechanism, link, points)
-    moved = pose @ home
+    `poses` are the links' poses at n configurations (:func:`mechanisms.kinematics.link_poses`), [n, s, s] each.
+    """
+    moved = poses[link] @ home
     return moved if mechanism.space == "spherical" else moved[..., :-1]
+
+
+def _poses(mechanism, points):
+    """Every link's pose at each configuration, one pass over the spanning tree: dict of [n, s, s]."""
+    from mechanisms.kinematics import link_poses
+
+    return link_poses(mechanism, np.atleast_2d(np.asarray(points, dtype=float)))
+
+
+def _joint_places(mechanism, poses):
+    """:func:`joint_places` from the links' poses (:func:`_poses`)."""
+    places = {}
+    for joint in mechanism.joints:
+        home = _home_place(mechanism, joint)
+        if home is not None:
+            places[joint.name] = _carry(mechanism, poses, joint.links[1], home)
+    return places
 
 
 def joint_places(mechanism, points):
@@ -89,28 +109,25 @@ def joint_places(mechanism, points):
         Joint name → place (d = 2 planar, 3 spherical — a unit vector — and
         spatial); P joints are left out.
     """
-    points = np.atleast_2d(np.asarray(points, dtype=float))
-    places = {}
-    for joint in mechanism.joints:
-        home = _home_place(mechanism, joint)
-        if home is not None:
-            places[joint.name] = _carry(mechanism, joint.links[1], home, points)
-    return places
+    return _joint_places(mechanism, _poses(mechanism, points))
 
 
-def _end_effector_place(mechanism, points):
-    """The end-effector point (or, on the sphere, the image of its link's first joint axis): [n, d] or None."""
+def _end_effector_place(mechanism, poses):
+    """The end-effector point (or, on the sphere, the image of its link's first joint axis): [n, d] or None.
+
+    `poses` are the links' poses at n configurations (:func:`_poses`).
+    """
     end_effector = mechanism.end_effector
     if end_effector is None:
         return None
     if mechanism.space == "spherical":
         axis = next((joint.axis for joint in mechanism.joints if end_effector.link in joint.links), None)
-        return None if axis is None else _carry(mechanism, end_effector.link,
-                                                np.asarray(axis, dtype=float) / np.linalg.norm(axis), points)
+        return None if axis is None else _carry(mechanism, poses, end_effector.link,
+                                                np.asarray(axis, dtype=float) / np.linalg.norm(axis))
     if end_effector.point is None:
         return None
     home = np.append(np.asarray(end_effector.point, dtype=float), 1.0)
-    return _carry(mechanism, end_effector.link, home, points)
+    return _carry(mechanism, poses, end_effector.link, home)
 
 
 def link_places(mechanism, points):
@@ -126,8 +143,13 @@ def link_places(mechanism, points):
     dict of str to list of ndarray, each shape=[n, d]
         Link name → its places in the order of the joints; the ground is included.
     """
-    places = joint_places(mechanism, points)
-    end_effector = _end_effector_place(mechanism, points)
+    return _link_places(mechanism, _poses(mechanism, points))
+
+
+def _link_places(mechanism, poses):
+    """:func:`link_places` from the links' poses (:func:`_poses`)."""
+    places = _joint_places(mechanism, poses)
+    end_effector = _end_effector_place(mechanism, poses)
     result = {link: [] for link in mechanism.links}
     for joint in mechanism.joints:
         if joint.name in places:
@@ -141,39 +163,58 @@ def link_places(mechanism, points):
 
 
 def place_velocities(mechanism, point, direction):
-    """Velocities of the joint places (and end-effector point) along a joint-rate vector.
+    """Velocities of the joint places (and end-effector point) along joint-rate vectors.
 
     ``d/dt link_pose(L, p ⊕ t v) · x`` at t = 0, by central differences with
-    step 1e-6 in the dimensionless tangent coordinates.
+    step 1e-6 in the dimensionless tangent coordinates (over the norm of v
+    divided by the tangent scales): the error is O(step²) plus rounding.
+    Every direction is done at once: the links' poses at the configuration
+    and at its 2m displacements come from one pass over the spanning tree
+    (:func:`mechanisms.kinematics.link_poses`), O(k) array operations for
+    all m directions.
 
     Parameters
     ----------
     mechanism : Mechanism
     point : ndarray, shape=[point_size]
-    direction : ndarray, shape=[k]
-        A joint-rate vector v (e.g. a column of a Report kind's kernel).
+    direction : ndarray, shape=[k] or [k, m]
+        A joint-rate vector v (e.g. a column of a Report kind's kernel), or m of them as columns.
 
     Returns
     -------
-    places, velocities : dict of str to ndarray, shape=[d]
+    places : dict of str to ndarray, shape=[d]
         Keyed by joint name, and ``"end-effector"`` when it has a point.
+    velocities : dict of str to ndarray, shape=[d] or [m, d]
+        The same keys; one row per column of `direction` when it has two axes.
+
+    Raises
+    ------
+    ValueError
+        Where a direction is zero.
     """
     from mechanisms.kinematics import kinematics_of
 
     ambient = kinematics_of(mechanism).ambient
+    point = np.asarray(point, dtype=float)
     direction = np.asarray(direction, dtype=float)
-    size = np.linalg.norm(direction / ambient.tangent_scales)
-    if size == 0:
+    directions = direction.reshape(direction.shape[0], -1).T                                  # [m, k]
+    sizes = np.array([np.linalg.norm(column / ambient.tangent_scales) for column in directions])
+    if np.any(sizes == 0):
         raise ValueError("the direction is zero")
-    step = _STEP / size
-    stack = np.stack([np.asarray(point, dtype=float),
-                      ambient.retract(point, step * direction), ambient.retract(point, -step * direction)])
-    places = joint_places(mechanism, stack)
-    end_effector = _end_effector_place(mechanism, stack)
+    steps = _STEP / sizes                                                                     # [m]
+    count = len(directions)
+    stack = np.concatenate([point[None], ambient.retract(point, steps[:, None] * directions),
+                            ambient.retract(point, -steps[:, None] * directions)])           # [1 + 2m, point_size]
+    poses = _poses(mechanism, stack)
+    places = _joint_places(mechanism, poses)
+    end_effector = _end_effector_place(mechanism, poses)
     if end_effector is not None:
         places["end-effector"] = end_effector
-    return ({name: value[0] for name, value in places.items()},
-            {name: (value[1] - value[2]) / (2 * step) for name, value in places.items()})
+    velocities = {name: (value[1:count + 1] - value[count + 1:]) / (2 * steps[:, None]) for name, value in
+                  places.items()}                                                             # [m, d] each
+    if direction.ndim == 1:
+        velocities = {name: value[0] for name, value in velocities.items()}
+    return {name: value[0] for name, value in places.items()}, velocities
 
 
 def lost_directions(report, kinds=None):
@@ -249,8 +290,9 @@ def draw_mechanism(mechanism, point, report=None, kinds=None, axes=None, title=N
     point = np.asarray(point, dtype=float)
     if mechanism.space == "spherical":
         _sphere(axes)
-    places = {name: value[0] for name, value in joint_places(mechanism, point[None]).items()}
-    links = link_places(mechanism, point[None])
+    poses = _poses(mechanism, point[None])
+    places = {name: value[0] for name, value in _joint_places(mechanism, poses).items()}
+    links = _link_places(mechanism, poses)
     for link, ones in links.items():
         ones = [place[0] for place in ones]
         if link == mechanism.ground:
@@ -264,19 +306,21 @@ def draw_mechanism(mechanism, point, report=None, kinds=None, axes=None, title=N
     length = 1.0 if mechanism.space == "spherical" else mechanism.characteristic_length
     for joint in mechanism.joints:
         if joint.name not in places:
-            _guide(axes, mechanism, point, joint, links, length, three)
+            _guide(axes, mechanism, poses, joint, links, length, three)
             continue
         style = (dict(marker="s", markersize=9, color="tab:orange", markeredgecolor="k")
                  if joint.actuated else dict(marker="o", markersize=7, markerfacecolor="white", color="k"))
         _plot(axes, places[joint.name][None], three, linestyle="none", zorder=5,
               gid=f"{'actuated' if joint.actuated else 'joint'}:{joint.name}", **style)
-    end_effector = _end_effector_place(mechanism, point[None])
+    end_effector = _end_effector_place(mechanism, poses)
     if end_effector is not None:
         _plot(axes, end_effector, three, linestyle="none", marker="*", markersize=14, color="tab:green",
               markeredgecolor="k", zorder=6, gid="end-effector")
-    if report is not None:
-        for kind, direction in lost_directions(report, kinds):
-            _arrows(axes, mechanism, point, direction, kind, length, three)
+    lost = [] if report is None else lost_directions(report, kinds)
+    if lost:  # every direction's velocities from one stack of configurations
+        starts, velocities = place_velocities(mechanism, point, np.stack([vector for _, vector in lost], axis=-1))
+        for number, (kind, _) in enumerate(lost):
+            _arrows(axes, starts, {name: value[number] for name, value in velocities.items()}, kind, length, three)
     _frame(axes, mechanism, point, three, length)
     if title is not None:
         axes.set_title(title)
@@ -290,12 +334,10 @@ def _sphere(axes):
                         color="0.85", linewidth=0.5, gid="sphere")
 
 
-def _guide(axes, mechanism, point, joint, links, length, three):
+def _guide(axes, mechanism, poses, joint, links, length, three):
     """A P joint. Between two moving links (a leg's cylinder and piston): the segment from the first link's
     place to the second's. Off the ground (a slider): a short guide along its axis (turned with its first link)
-    through the second link's place."""
-    from mechanisms.kinematics import link_pose
-
+    through the second link's place. `poses`: the links' poses at the configuration, [1, s, s] each."""
     first, second = links[joint.links[0]], links[joint.links[1]]
     style = dict(color="tab:orange" if joint.actuated else "0.3", linewidth=4, alpha=0.6, gid=f"guide:{joint.name}")
     if joint.links[0] != mechanism.ground and first and second:
@@ -308,13 +350,13 @@ def _guide(axes, mechanism, point, joint, links, length, three):
     axis = np.asarray(joint.axis, dtype=float)
     axis = axis / np.linalg.norm(axis)
     if joint.links[0] != mechanism.ground:  # the axis turns with the first link
-        axis = link_pose(mechanism, joint.links[0], point)[:axis.size, :axis.size] @ axis
+        axis = poses[joint.links[0]][0, :axis.size, :axis.size] @ axis
     _plot(axes, np.stack([centre - 0.3 * length * axis, centre + 0.3 * length * axis]), three, **style)
 
 
-def _arrows(axes, mechanism, point, direction, kind, length, three):
-    """The velocities of the places along one lost direction, as one quiver."""
-    places, velocities = place_velocities(mechanism, point, direction)
+def _arrows(axes, places, velocities, kind, length, three):
+    """The velocities of the places along one lost direction (:func:`place_velocities`, [d] each), as one
+    quiver."""
     names = list(places)
     starts = np.array([places[name] for name in names])
     speeds = np.array([velocities[name] for name in names])
