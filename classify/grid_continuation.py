@@ -284,11 +284,12 @@ def _correct(mechanism, points, free, iterations=_CORRECTOR_ITERATIONS, closing=
     residuals : ndarray, shape=[m]
         ‖Φ‖ at each (NaN where the iteration diverged).
     """
+    from manifold import minimum_norm_steps
     from mechanisms.kinematics import configuration_space
 
     space = configuration_space(mechanism)
     space = space.closing if closing else space
-    value_of, jacobian_of, ambient = space.constraint, space.constraint_jacobian, space.ambient
+    value_of, ambient = space.constraint, space.ambient
     scales = ambient.tangent_scales[free]
     points = np.array(points, dtype=float)
     values = value_of(points)
@@ -300,9 +301,8 @@ def _correct(mechanism, points, free, iterations=_CORRECTOR_ITERATIONS, closing=
         rows = np.flatnonzero(active & (norms > 1e-3 * _TOLERANCE))
         if not rows.size:
             break
-        jacobian = jacobian_of(points[rows])[..., free] * scales
         tangent = np.zeros((rows.size, ambient.dim))
-        tangent[:, free] = -scales * np.einsum("arc,ac->ar", np.linalg.pinv(jacobian, rcond=1e-12), values[rows])
+        tangent[:, free] = -scales * minimum_norm_steps(space, points[rows], values[rows], columns=free, rcond=1e-12)
         points[rows] = ambient.retract(points[rows], tangent)
         values[rows] = value_of(points[rows])
         previous, norms[rows] = norms[rows], np.linalg.norm(values[rows], axis=-1)
@@ -331,11 +331,14 @@ def _continue(mechanism, sources, targets, held, entries):
         The configurations (held entries those of `targets`; NaN rows where not reached).
     ok : ndarray of bool, shape=[m]
     """
-    from mechanisms.kinematics import closes, constraint_jacobian, kinematics_of
+    from manifold import minimum_norm_steps
+    from mechanisms.kinematics import closes, configuration_space
 
-    ambient = kinematics_of(mechanism).ambient
+    space = configuration_space(mechanism)
+    ambient, pattern = space.ambient, space.pattern
     scales = ambient.tangent_scales
     free = np.setdiff1d(np.arange(ambient.dim), held)
+    held_pattern, held_entries = pattern.restricted(held)  # DΦ's held columns: the motion of the held values
     count = len(sources)
     delta = np.zeros((count, ambient.dim))
     delta[:, held] = ambient.inverse_retract(sources, targets)[:, held]
@@ -355,11 +358,11 @@ def _continue(mechanism, sources, targets, held, entries):
         start = current[rows].copy()
         start[:, entries] = base[:, entries]
         tangent = np.zeros((rows.size, ambient.dim))
-        if free.size:
-            jacobian = constraint_jacobian(mechanism, current[rows])
-            motion = np.einsum("mch,mh->mc", jacobian[..., held], (goal - done[rows])[:, None] * delta[rows][:, held])
-            inverse = np.linalg.pinv(jacobian[..., free] * scales[free], rcond=1e-12)
-            tangent[:, free] = -scales[free] * np.einsum("mfc,mc->mf", inverse, motion)
+        if free.size:  # no dense c × k Jacobian of the stack: the held columns, then the free ones block by block
+            held_jacobian = held_pattern.dense(space.constraint_jacobian_entries(current[rows])[..., held_entries])
+            motion = np.einsum("mch,mh->mc", held_jacobian, (goal - done[rows])[:, None] * delta[rows][:, held])
+            tangent[:, free] = -scales[free] * minimum_norm_steps(space, current[rows], motion, columns=free,
+                                                                  rcond=1e-12)
         predicted = ambient.retract(start, tangent)
         corrected, residuals = _correct(mechanism, predicted, free)
         move = np.linalg.norm(ambient.inverse_retract(predicted, corrected)[:, free] / scales[free], axis=-1)
@@ -381,16 +384,16 @@ def held_margins(mechanism, points, held):
 
     Above :data:`REGULAR_RTOL`, the `held` tangent coordinates are independent coordinates of M there: the loops
     can be solved for the others (the implicit-function theorem)."""
-    from manifold import rank_of_values
-    from mechanisms.kinematics import constraint_jacobian, kinematics_of
+    from manifold import rank_of_values, scaled_singular_values
+    from mechanisms.kinematics import configuration_space
 
-    ambient = kinematics_of(mechanism).ambient
-    free = np.setdiff1d(np.arange(ambient.dim), np.asarray(held, dtype=int))
-    jacobian = constraint_jacobian(mechanism, np.atleast_2d(points)) * ambient.tangent_scales
-    full = np.linalg.svd(jacobian, compute_uv=False)
+    space = configuration_space(mechanism)
+    free = np.setdiff1d(np.arange(space.ambient.dim), np.asarray(held, dtype=int))
+    points = np.atleast_2d(points)
+    full = scaled_singular_values(space, points)  # block by block for a large mechanism
     if not free.size:
         return np.ones(len(full))
-    restricted = np.linalg.svd(jacobian[..., free], compute_uv=False)
+    restricted = scaled_singular_values(space, points, columns=free)
     margins = np.zeros(len(full))
     for index, values in enumerate(full):
         rank = rank_of_values(values).rank
@@ -418,21 +421,20 @@ def regular_start(mechanism, start, held):
         The given start when no neighbour within :data:`NEIGHBOUR_STEPS` is regular (the continuation tries it
         as it is).
     """
-    from manifold import rank_of_values
-    from mechanisms.kinematics import closes, constraint_jacobian, kinematics_of
+    from manifold import tangent_basis
+    from mechanisms.kinematics import closes, configuration_space
 
-    ambient = kinematics_of(mechanism).ambient
+    space = configuration_space(mechanism)
+    ambient = space.ambient
     start = np.asarray(start, dtype=float)
     margin = float(held_margins(mechanism, start, held)[0])
     if margin > REGULAR_RTOL:
         return StartingPoint(start, False, 0.0, margin)
     scales = ambient.tangent_scales
-    jacobian = constraint_jacobian(mechanism, start[None])[0] * scales
-    values, right = np.linalg.svd(jacobian, full_matrices=True)[1:]
-    tangent = right[rank_of_values(values).rank:]  # a basis of T_pM (dimensionless)
+    tangent = tangent_basis(space, start)[0].T  # a basis of T_pM, rows s·u with u orthonormal
     directions = np.concatenate([tangent, -tangent])
     for size in NEIGHBOUR_STEPS:
-        guesses = ambient.retract(np.broadcast_to(start, (len(directions), start.size)), size * directions * scales)
+        guesses = ambient.retract(np.broadcast_to(start, (len(directions), start.size)), size * directions)
         corrected, residuals = _correct(mechanism, guesses, np.arange(ambient.dim), 4 * _CORRECTOR_ITERATIONS)
         moved = np.linalg.norm(ambient.inverse_retract(start, corrected) / scales, axis=-1)
         margins = held_margins(mechanism, corrected, held)

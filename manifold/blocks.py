@@ -26,7 +26,7 @@ from .rank import numerical_rank, rank_of_values
 __all__ = [
     "BlockGroup", "JacobianPattern", "PseudoInverse", "scaled_blocks", "decompose", "block_rank",
     "block_vectors", "dense_basis", "sparse_basis", "pseudo_inverse", "apply_pseudo_inverse", "cap_block_steps",
-    "minimum_norm_solutions",
+    "minimum_norm_solutions", "stacked_singular_values",
 ]
 
 
@@ -367,6 +367,31 @@ def cap_block_steps(pattern, step, max_step, scales):
         step[group.columns] *= factors[:, None]
 
 
+def _stacked_blocks(pattern, entries, scales):
+    """The blocks of a stack of ``DΦ·diag(s)`` given by their entries [n, nnz] at `pattern`: ``(group, blocks
+    [n, b, r, q])`` per block group."""
+    padded = np.concatenate([entries, np.zeros((len(entries), 1))], axis=1)
+    return [(group, padded[:, group.positions] * scales[group.columns][:, None, :]) for group in pattern.blocks]
+
+
+def stacked_singular_values(pattern, entries, scales):
+    """Singular values of a stack of ``J = DΦ·diag(s)`` given by their entries at `pattern`, descending, zeros
+    up to ``min(c, k)`` as a dense SVD gives them: the union of the blocks', shape=[n, min(c, k)].
+
+    Parameters
+    ----------
+    pattern : JacobianPattern
+    entries : array_like, shape=[n, nnz]
+    scales : array_like, shape=[k]
+    """
+    entries = np.asarray(entries, dtype=float)
+    values = [np.linalg.svd(blocks, compute_uv=False) for _, blocks in
+              _stacked_blocks(pattern, entries, np.asarray(scales, dtype=float))]     # [n, b, s] each
+    values = [value.reshape(len(entries), value.shape[1] * value.shape[2]) for value in values]
+    values = np.concatenate(values + [np.zeros((len(entries), min(pattern.shape)))], axis=1)
+    return -np.sort(-values, axis=1)[:, :min(pattern.shape)]
+
+
 def minimum_norm_solutions(pattern, entries, scales, right_hand_side, rcond, sparse_columns=None):
     """The minimum-norm least-squares solutions u of ``J u = b`` for a stack of ``J = DΦ·diag(s)`` given by their
     entries at `pattern`, block by block (:func:`pseudo_inverse` and :func:`apply_pseudo_inverse` for each
@@ -394,10 +419,8 @@ def minimum_norm_solutions(pattern, entries, scales, right_hand_side, rcond, spa
     right_hand_side = np.asarray(right_hand_side, dtype=float)
     scales = np.asarray(scales, dtype=float)
     count = len(entries)
-    padded = np.concatenate([entries, np.zeros((count, 1))], axis=1)
     dense, iterative, largest = [], [], np.zeros(count)
-    for group in pattern.blocks:
-        blocks = padded[:, group.positions] * scales[group.columns][:, None, :]    # [n, b, r, q]
+    for group, blocks in _stacked_blocks(pattern, entries, scales):     # blocks [n, b, r, q]
         if sparse_columns is not None and group.columns.shape[1] > sparse_columns:
             iterative.append((group, blocks))
             continue

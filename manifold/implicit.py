@@ -56,6 +56,7 @@ __all__ = [
     "project",
     "project_many",
     "minimum_norm_steps",
+    "scaled_singular_values",
     "tangent_basis",
     "sparse_tangent_basis",
     "normal_basis",
@@ -437,6 +438,30 @@ def minimum_norm_steps(manifold, points, values, columns=None, rcond=STEP_RCOND)
         return blocks_module.minimum_norm_solutions(pattern, entries, scales, values, rcond, SPARSE_BLOCK_COLUMNS)
     jacobian = np.asarray(manifold.constraint_jacobian(points), dtype=float)[..., columns] * scales
     return np.einsum("nkc,nc->nk", np.linalg.pinv(jacobian, rcond=rcond), values)
+
+
+def scaled_singular_values(manifold, points, columns=None):
+    """Singular values of ``DΦ(p)[:, columns]·diag(s[columns])`` at a stack of points, descending,
+    shape=[n, min(c, r)]: block by block where the manifold is handled so (:data:`BLOCK_THRESHOLD`;
+    :func:`manifold.blocks.stacked_singular_values`), else of the dense Jacobians.
+
+    Parameters
+    ----------
+    manifold : ImplicitManifold
+    points : array_like, shape=[n, point_size]
+    columns : array_like of int, shape=[r], optional
+        Default all the tangent coordinates.
+    """
+    ambient = manifold.ambient
+    columns = np.arange(ambient.dim) if columns is None else np.asarray(columns, dtype=np.intp)
+    scales = ambient.tangent_scales[columns]
+    points = np.asarray(points, dtype=float)
+    if _blocked(manifold):
+        pattern, kept = manifold.pattern.restricted(columns)
+        entries = np.asarray(manifold.constraint_jacobian_entries(points), dtype=float)[..., kept]
+        return blocks_module.stacked_singular_values(pattern, entries, scales)
+    jacobian = np.asarray(manifold.constraint_jacobian(points), dtype=float)[..., columns] * scales
+    return np.linalg.svd(jacobian, compute_uv=False)
 
 
 # --------------------------------------------------------------------------- bases

@@ -15,7 +15,7 @@ from manifold import (
 )
 from manifold.blocks import (
     apply_pseudo_inverse, block_rank, block_vectors, cap_block_steps, decompose, dense_basis, minimum_norm_solutions,
-    pseudo_inverse, scaled_blocks, sparse_basis,
+    pseudo_inverse, scaled_blocks, sparse_basis, stacked_singular_values,
 )
 
 
@@ -101,6 +101,24 @@ def test_stacked_minimum_norm_solutions_are_the_dense_pseudo_inverses(singular, 
         expected = np.einsum("nkc,nc->nk", np.linalg.pinv(matrices, rcond=1e-12), right_hand_side)
         assert solutions.shape == (4, len(columns))
         np.testing.assert_allclose(solutions, expected, atol=1e-12 if sparse_columns is None else 1e-9)
+
+
+@pytest.mark.parametrize("singular", [False, True])
+def test_stacked_singular_values_are_the_dense_ones(singular):
+    """Of a stack, of all columns and of some (the others held; an empty stack too): the union of the blocks'
+    values, descending, with zeros up to min(c, k) as LAPACK gives them (row 3 is empty)."""
+    rng = np.random.default_rng(34)
+    manifold, dense = linear_manifold(rng, singular)
+    pattern, scales = manifold.pattern, manifold.ambient.tangent_scales
+    entries = dense[pattern.rows, pattern.columns] / scales[pattern.columns]
+    stack = entries * rng.uniform(0.1, 10.0, (3, len(entries)))
+    for columns in (np.arange(9), np.array([8, 0, 4, 3, 7, 1]), np.array([2])):
+        restricted, kept = pattern.restricted(columns)
+        for count in (3, 0):
+            values = stacked_singular_values(restricted, stack[:count, kept], scales[columns])
+            matrices = pattern.dense(stack[:count])[..., columns] * scales[columns]
+            np.testing.assert_allclose(values, np.linalg.svd(matrices, compute_uv=False), atol=1e-12)
+            assert values.shape == (count, min(8, len(columns)))
 
 
 def test_capped_steps_keep_each_block_within_the_cap():
