@@ -24,9 +24,15 @@ stack (:func:`classify.metrics.singular_values`), of larger wide DΦs from the
 eigenvalues of their Gram matrix where certified (:func:`_gram_values`); the
 kernel bases of loops that each own as many coordinates as they have rows
 (Gough–Stewart, 3-RRR) from small solves per loop (:class:`ArrowStructure`),
-where those blocks are well conditioned. The stack goes in chunks of about
-the same memory for every mechanism (:func:`default_chunk`), in threads with
-``workers``.
+where those blocks are well conditioned. A large mechanism whose DΦ the
+single call takes block by block (a pattern and k ≥
+:data:`manifold.implicit.BLOCK_THRESHOLD`: the note on sparsity of
+:mod:`manifold.implicit`) is taken block by block here too: the blocks of one
+shape of every configuration of a chunk in one batched SVD, whose values are
+DΦ's and whose vectors give the tangent bases as :func:`manifold.tangent_basis`
+does (:func:`_block_decomposition`), with no SVD of the c × k DΦ and no k × k
+orthogonal factor. The stack goes in chunks of about the same memory for
+every mechanism (:func:`default_chunk`), in threads with ``workers``.
 
 What is not array work runs only where it is needed, through
 :func:`classify.classify` itself: at a configuration where DΦ has less than
@@ -360,11 +366,18 @@ def _closure_and_jacobian(model, points, offset):
 
 def _first_order(model, points, survey, rtol, offset, columns=None):
     """Columns of the first-order classification of a chunk of configurations (see the module notes),
-    written into `columns` (views of the whole stack's, :func:`_rows_of`) when given."""
+    written into `columns` (views of the whole stack's, :func:`_rows_of`) when given.
+
+    The rank of DΦ·diag(s) and the tangent bases come from its blocks where the single call takes them so
+    (``manifold.implicit._blocked``: :func:`_block_decomposition`), else from the dense matrices."""
     jacobian = _closure_and_jacobian(model, points, offset)
     count = len(points)
     scales = model.manifold.ambient.tangent_scales
-    constraint_values, constraint_tolerance = _constraint_values(jacobian, rtol)
+    decomposition = _block_decomposition(model.manifold, jacobian) if implicit._blocked(model.manifold) else None
+    if decomposition is None:
+        constraint_values, constraint_tolerance = _constraint_values(jacobian, rtol)
+    else:
+        constraint_values, constraint_tolerance = _block_constraint_values(decomposition, jacobian.shape, rtol)
     constraint_ranks, constraint_margins = _decisions(constraint_values, constraint_tolerance)
     largest = constraint_values[:, 0] if constraint_values.shape[1] else np.zeros(count)  # σ₁(DΦ·s)
     # below the survey's largest rank of DΦ: a possible C-space singularity; or where the arithmetic cannot
@@ -378,10 +391,15 @@ def _first_order(model, points, survey, rtol, offset, columns=None):
     columns["margins"]["cspace"][:] = constraint_margins
     columns["tolerances"]["cspace"][:] = constraint_tolerance
     regular = np.flatnonzero(~full)
-    structure = _arrow_structure(model)
+    structure = _arrow_structure(model) if decomposition is None else None
     for rank in np.unique(constraint_ranks[regular]):
         group = regular[constraint_ranks[regular] == rank]
-        basis, amplification = _kernel_bases(jacobian[group], int(rank), structure)
+        if decomposition is None:
+            basis, amplification = _kernel_bases(jacobian[group], int(rank), structure)
+        else:  # the SVDs' own vectors, as the single call's: a backward-stable basis block by block
+            basis = _block_kernel_bases(decomposition, group, constraint_tolerance[group], model.manifold,
+                                        int(rank))
+            amplification = np.ones(len(group))
         if rank < jacobian.shape[-2] and rank < jacobian.shape[-1]:
             # DΦ short of its rows (an overconstrained chain): M may extend along fewer directions than ker DΦ
             # (an infinitesimal flex of a structure, manifold.tangent_extent): those are classified one at a time
@@ -429,8 +447,10 @@ def basis_error(largest, kept, amplification=1.0):
     of ``4 k ε κ(J)``, so ``ε κ(J)`` is some 7 times above the largest
     difference measured. The block-arrow solves (:func:`_arrow_bases`) may
     err more, by up to the condition number of the loops' own blocks:
-    `amplification` (shape=[b]) stands for κ(J) where it is larger. A
-    configuration without loops has the exact basis I (κ = 1). To this the
+    `amplification` (shape=[b]) stands for κ(J) where it is larger. Block by
+    block (:func:`_block_decomposition`) both bases come from the blocks' SVDs,
+    backward stable block by block, and each block's ``σ₁/σ_r`` is at most
+    κ(J). A configuration without loops has the exact basis I (κ = 1). To this the
     estimate adds :data:`BLOCK_ROUNDING` ε, the rounding of a block's own
     singular values (the batch's Jacobi sweeps or closed forms, the single
     call's LAPACK), relative to the block's scale.
@@ -497,6 +517,105 @@ def _gram_values(matrices):
     if len(redo):
         values[redo] = np.linalg.svd(matrices[redo], compute_uv=False)
     return values
+
+
+def _block_decomposition(manifold, jacobian):
+    """SVDs (full matrices) of the blocks of a chunk's DΦ·diag(s) (``manifold.pattern.blocks``), blocks of
+    one shape of every configuration in one batched call, as :func:`manifold.blocks.decompose` for one point.
+
+    Parameters
+    ----------
+    manifold : ImplicitManifold
+        Handled block by block (``manifold.implicit._blocked``).
+    jacobian : ndarray, shape=[b, c, k]
+        DΦ·diag(s) of the chunk (zero off the pattern).
+
+    Returns
+    -------
+    list of tuple
+        ``(block group, singular values [b, blocks, min(r, q)], Vᴴ [b, blocks, q, q])`` per block group.
+    """
+    decomposition = []
+    for group in manifold.pattern.blocks:
+        blocks = jacobian[:, group.rows[:, :, None], group.columns[:, None, :]]  # [b, blocks, r, q]
+        _, values, right = np.linalg.svd(blocks, full_matrices=True)
+        decomposition.append((group, values, right))
+    return decomposition
+
+
+def _block_constraint_values(decomposition, shape, rtol):
+    """Singular values of DΦ·diag(s) from its blocks' and the cut of its rank, shape=[b, min(c, k)] and [b],
+    as :func:`manifold.blocks.block_rank` for one point: the union of the blocks' values, padded with the
+    exact zeros of the whole matrix (rows no entry touches, blocks with more rows than columns), descending.
+
+    Parameters
+    ----------
+    decomposition : list of tuple
+        From :func:`_block_decomposition`.
+    shape : tuple of int
+        ``(b, c, k)``: the chunk's DΦ.
+    rtol : float
+    """
+    count, rows, columns = shape
+    pieces = [values.reshape(count, -1) for _, values, _ in decomposition]
+    known = sum(piece.shape[1] for piece in pieces)
+    pieces.append(np.zeros((count, max(min(rows, columns) - known, 0))))
+    values = np.sort(np.concatenate(pieces, axis=1), axis=1)[:, ::-1]
+    return values, np.maximum(rtol * (values[:, 0] if values.shape[1] else 0.0), DEFAULT_ATOL)
+
+
+def _block_kernel_bases(decomposition, selection, tolerance, manifold, rank):
+    """Orthonormal bases of ker DΦ·diag(s) at the configurations `selection` of a chunk (of one rank), from its
+    blocks, shape=[g, k, k − rank]: as :func:`manifold.tangent_basis` for one point, the right singular vectors
+    of each block beyond its own count of values above the whole matrix's cut (the direct sum of the blocks'
+    kernels, in the order of :func:`manifold.blocks.block_vectors`), then the unit vectors of the pattern's free
+    columns.
+
+    Parameters
+    ----------
+    decomposition : list of tuple
+        From :func:`_block_decomposition`.
+    selection : ndarray of int, shape=[g]
+        Configurations of the chunk, all with the same rank of DΦ·diag(s).
+    tolerance : ndarray, shape=[g]
+        The cut of the rank decision of each whole matrix.
+    manifold : ImplicitManifold
+    rank : int
+        The rank of each whole matrix (the count of its values above the cut: the sum of the blocks').
+    """
+    count, size = len(selection), manifold.ambient.dim
+    free = manifold.pattern.free_columns
+    dimension = size - rank
+    pieces = [_block_kernel_vectors(group, values[selection], right[selection], tolerance)
+              for group, values, right in decomposition]
+    bases = np.zeros((count, size, dimension))
+    start = np.zeros(count, dtype=np.intp)
+    for configurations, columns, vectors in pieces:
+        counts = np.bincount(configurations, minlength=count)
+        first = np.cumsum(counts) - counts  # where each configuration's vectors start among the piece's
+        numbers = start[configurations] + np.arange(len(configurations)) - first[configurations]
+        bases[configurations[:, None], columns, numbers[:, None]] = vectors
+        start += counts
+    bases[:, free, np.arange(dimension - len(free), dimension)] = 1.0
+    return bases
+
+
+def _block_kernel_vectors(group, values, right, tolerance):
+    """The kernel vectors of one block group's blocks (dimensionless), configuration by configuration in block
+    order: ``(configuration [t], columns [t, q], vectors [t, q])``.
+
+    Parameters
+    ----------
+    group : BlockGroup
+    values : ndarray, shape=[g, blocks, min(r, q)]
+    right : ndarray, shape=[g, blocks, q, q]
+        Vᴴ of each block.
+    tolerance : ndarray, shape=[g]
+    """
+    ranks = np.count_nonzero(values > tolerance[:, None, None], axis=-1)       # [g, blocks]
+    beyond = np.arange(right.shape[-2]) >= ranks[..., None]                    # [g, blocks, q]
+    configurations, blocks, rows = np.nonzero(beyond)
+    return configurations, group.columns[blocks], right[configurations, blocks, rows]
 
 
 #: the largest condition number ``|C|_F |C⁻¹|_F`` of a loop's own block for which :func:`_arrow_bases` is used
