@@ -25,8 +25,13 @@ Then a new mechanism of the same size is classified under tracemalloc (the
 peak of Python and NumPy allocations). Reported: seconds, peak RSS, RSS
 above the warm-up's (what the mechanism added), the traced peak, and the
 exponent b of ``value ≈ a·kᵇ`` fitted by least squares on the logarithms,
-over all sizes and over k ≥ 100. It prints Markdown and writes JSON
-(``--out``, default ``benchmarks/results/large_mechanisms.json``).
+over all sizes and over k ≥ 100. Then, on the same mechanism, the other
+paths a large mechanism takes (:func:`other_paths`, fastest of
+``--repeats``): 50 configurations by ``classify_many`` and by a loop of
+``classify``, ``project_many`` of 25 points off M, ``assemble`` with two
+inputs moved, and the grid continuation of ``closedchain map`` over 5 × 5
+values of two inputs, and the peak RSS after them. It prints Markdown and
+writes JSON (``--out``, default ``benchmarks/results/large_mechanisms.json``).
 """
 
 from __future__ import annotations
@@ -46,6 +51,8 @@ for _folder in (ROOT, ROOT / "tests"):  # the package, and the test suite's buil
 
 #: the sizes k measured by default
 SIZES = (10, 20, 50, 100, 200, 400, 1000)
+#: the other paths timed at each size (:func:`other_paths`)
+OTHER_PATHS = ("classify_many", "classify_loop", "project_many", "assemble", "map_grid")
 #: seconds one size may take before it is reported as timed out
 TIME_LIMIT = 600
 
@@ -94,13 +101,58 @@ def measure(joint_count, repeats=3):
     traced = tracemalloc.get_traced_memory()[1]
     tracemalloc.stop()
     build_seconds, classify_seconds = min(timings, key=sum)
-    return {
+    others = {f"{name}_seconds": seconds for name, seconds in other_paths(mechanism, repeats).items()}
+    others["paths_peak_rss_mb"] = _peak_rss() / 2 ** 20
+    return {**others, 
         "k": joint_count, "loops": mechanism.loop_count, "dof": report.dof, "kinds": list(report.kinds),
         "build_seconds": build_seconds, "classify_seconds": classify_seconds,
         "seconds": build_seconds + classify_seconds, "all_seconds": [sum(pair) for pair in timings],
         "peak_rss_mb": peak / 2 ** 20, "baseline_rss_mb": baseline / 2 ** 20,
         "added_rss_mb": (peak - baseline) / 2 ** 20, "traced_peak_mb": traced / 2 ** 20,
     }
+
+
+def _fastest(function, repeats):
+    """The fastest of `repeats` timed calls of `function`, seconds."""
+    timings = []
+    for _ in range(repeats):
+        started = time.perf_counter()
+        function()
+        timings.append(time.perf_counter() - started)
+    return min(timings)
+
+
+def other_paths(mechanism, repeats, count=50):
+    """Seconds of the other paths a large mechanism takes (its survey already cached on the model): `count`
+    configurations by ``classify_many`` and by a loop of ``classify``, ``project_many`` of half as many points
+    off M, ``assemble`` with two actuated joints moved (Gauss–Newton from the home, then 128 random starts
+    for the branches), and the continuation of ``closedchain map`` over a 5 × 5 grid of them."""
+    import numpy as np
+
+    from classify import classify, classify_many, model_of
+    from classify.grid_continuation import assemble_grid
+    from manifold import project_many
+    from mechanisms import assemble, configuration_space, from_displacements, home
+
+    model = model_of(mechanism)
+    moves = np.linspace(-0.2, 0.2, count)
+    points = np.array([from_displacements(mechanism, {"A1": move, "B1": -move, "C1": move, "D1": -move})
+                       for move in moves])  # the first loop turned: points of M
+    classify(model, points[0])
+    off = points[: count // 2] + 1e-3 * np.random.default_rng(0).standard_normal(points[: count // 2].shape)
+    values = np.linspace(-0.1, 0.1, 5)
+    targets = np.array([from_displacements(mechanism, {"A1": first, "A2": second})
+                        for first in values for second in values]) if mechanism.loop_count >= 2 else None
+    held = tuple(sorted(mechanism.actuated_coordinates))
+    timed = {
+        "classify_many": lambda: classify_many(model, points, workers=1),
+        "classify_loop": lambda: [classify(model, point) for point in points],
+        "project_many": lambda: project_many(configuration_space(mechanism), off),
+        "assemble": lambda: assemble(mechanism, {"A1": 0.1} if targets is None else {"A1": 0.1, "A2": -0.05}),
+    }
+    if targets is not None:
+        timed["map_grid"] = lambda: assemble_grid(mechanism, home(mechanism), targets, (5, 5), held)
+    return {name: _fastest(function, repeats) for name, function in timed.items()}
 
 
 def run(joint_count, repeats):
@@ -129,15 +181,18 @@ def exponent(rows, key, smallest=0):
 
 def table(rows):
     """The Markdown table of the measurements."""
-    lines = ["| k | loops | build s | classify s | peak RSS MB | added RSS MB | traced peak MB | kinds |",
-             "|---:|---:|---:|---:|---:|---:|---:|---|"]
+    lines = ["| k | loops | build s | classify s | peak RSS MB | added RSS MB | traced peak MB | kinds | "
+             + " | ".join(f"{name} s" for name in OTHER_PATHS) + " |",
+             "|---:|---:|---:|---:|---:|---:|---:|---|" + "---:|" * len(OTHER_PATHS)]
     for row in rows:
         if "error" in row:
-            lines.append(f"| {row['k']} | | | {row['error']} | | | | |")
+            lines.append(f"| {row['k']} | | | {row['error']} | | | | |" + " |" * len(OTHER_PATHS))
             continue
+        others = " | ".join(f"{row[name + '_seconds']:.3g}" if name + "_seconds" in row else "-"
+                            for name in OTHER_PATHS)
         lines.append(f"| {row['k']} | {row['loops']} | {row['build_seconds']:.3f} | {row['classify_seconds']:.2f} | "
                      f"{row['peak_rss_mb']:.0f} | {row['added_rss_mb']:.1f} | {row['traced_peak_mb']:.1f} | "
-                     f"{', '.join(row['kinds']) or 'regular'} |")
+                     f"{', '.join(row['kinds']) or 'regular'} | {others} |")
     return "\n".join(lines)
 
 
@@ -163,7 +218,8 @@ def main(argv=None):
                                         f"{rows[-1]['seconds']:.2f} s, {rows[-1]['traced_peak_mb']:.1f} MB traced"),
               file=sys.stderr, flush=True)
     fits = {key: {"all": exponent(rows, key), "k >= 100": exponent(rows, key, 100)}
-            for key in ("seconds", "classify_seconds", "added_rss_mb", "traced_peak_mb")}
+            for key in ("seconds", "classify_seconds", "added_rss_mb", "traced_peak_mb")
+            + tuple(f"{name}_seconds" for name in OTHER_PATHS)}
     result = {"machine": machine(), "load_average": list(os.getloadavg()) if hasattr(os, "getloadavg") else None,
               "rows": rows, "exponents": fits}
     options.out.parent.mkdir(parents=True, exist_ok=True)
