@@ -306,7 +306,9 @@ def pseudo_inverse(manifold, point, rcond, sparse_columns=None):
     Singular values at most ``rcond · σ₁`` (σ₁ of the whole matrix) count as
     zero, as in ``numpy.linalg.lstsq`` and ``numpy.linalg.pinv``. Blocks with
     more than `sparse_columns` columns (if given) are left to LSQR (its
-    iterates from zero converge to the minimum-norm solution).
+    iterates from zero converge to the minimum-norm solution), each on its
+    own: σ₁ counts the blocks decomposed densely only, and LSQR's
+    ``conlim`` 1/rcond is relative to its block.
 
     Returns
     -------
@@ -399,7 +401,9 @@ def minimum_norm_solutions(pattern, entries, scales, right_hand_side, rcond, spa
 
     Singular values at most ``rcond · σ₁`` (σ₁ of each whole matrix) count as zero, as in
     ``numpy.linalg.pinv``: the solutions are ``J⁺ b`` of the dense matrices, to rounding. Blocks with more
-    than `sparse_columns` columns (if given) are left to LSQR, one matrix at a time.
+    than `sparse_columns` columns (if given) are left to LSQR, one matrix at a time, as in
+    :func:`apply_pseudo_inverse`: such a block is solved on its own (LSQR's ``conlim`` 1/rcond is relative to
+    the block), so σ₁ counts the blocks decomposed densely only, and a block far below the others is not cut.
 
     Parameters
     ----------
