@@ -47,7 +47,8 @@ included: the map must not depend on which points the grid's resolution
 let the start try) are started (nearest first, as above) from a regular
 neighbour on M instead (:func:`regular_start`): a step of
 0.05, 0.1 or 0.2 (dimensionless, :data:`NEIGHBOUR_STEPS`) from the start
-along each tangent direction of M (both ways), corrected onto M, the first
+along each coordinate axis projected onto T_pM (both ways; no arbitrary
+basis of T_pM chooses them: :func:`neighbour_directions`), corrected onto M, the first
 size at which one is regular, and of those the best conditioned. A small
 step along M stays on the start's connected part of M; where the start is
 a fold between two assembly modes, the neighbour is in one of them.
@@ -74,8 +75,8 @@ from dataclasses import dataclass
 import numpy as np
 
 __all__ = ["Grid", "grid_targets", "held_columns", "held_entries", "assemble_grid", "grid_neighbours",
-           "regular_start", "held_margins", "StartingPoint", "REGULAR_RTOL", "NEIGHBOUR_STEPS", "assemble_branches",
-           "BRANCH_SEPARATION"]
+           "regular_start", "neighbour_directions", "held_margins", "StartingPoint", "REGULAR_RTOL", "NEIGHBOUR_STEPS",
+           "assemble_branches", "BRANCH_SEPARATION"]
 
 #: ‖Φ‖ of an assembled grid point (the default of :func:`mechanisms.assemble`)
 _TOLERANCE = 1e-10
@@ -404,6 +405,24 @@ def held_margins(mechanism, points, held):
     return margins
 
 
+def neighbour_directions(basis):
+    """The directions of T_pM toward :func:`regular_start`'s neighbours: each coordinate axis projected onto
+    T_pM, normalised, shape=[d, k] (the axes that M moves along, in the order of the coordinates).
+
+    The projection ``U Uᵀ eⱼ`` does not depend on which orthonormal basis U
+    of T_pM (dimensionless, shape=[k, m]) is given — an SVD's or the blocks'
+    of DΦ, whose vectors are arbitrary within a repeated singular value and
+    in sign — so neither do the neighbours, nor which grid points the map
+    reaches from them; an axis sign or a joint zero changes a direction's
+    sign at most (both are tried). Axes that M does not move along (a
+    projection shorter than 1e-9) are left out.
+    """
+    projections = basis @ basis.T                                   # [k, k]: row j is (U Uᵀ eⱼ)ᵀ
+    lengths = np.linalg.norm(projections, axis=1)
+    moving = lengths > 1e-9
+    return projections[moving] / lengths[moving, None]
+
+
 def regular_start(mechanism, start, held):
     """The start itself when it is regular for the held coordinates, else a regular neighbour on M (module notes).
 
@@ -431,7 +450,7 @@ def regular_start(mechanism, start, held):
     if margin > REGULAR_RTOL:
         return StartingPoint(start, False, 0.0, margin)
     scales = ambient.tangent_scales
-    tangent = tangent_basis(space, start)[0].T  # a basis of T_pM, rows s·u with u orthonormal
+    tangent = neighbour_directions(tangent_basis(space, start)[0] / scales[:, None]) * scales
     directions = np.concatenate([tangent, -tangent])
     for size in NEIGHBOUR_STEPS:
         guesses = ambient.retract(np.broadcast_to(start, (len(directions), start.size)), size * directions)

@@ -166,7 +166,7 @@ def _piece(mechanism, piece, coordinates):
 
 
 #: below this share of the grid reached on the start's assembly branch, the text suggests a finer grid or more
-#: branches (a degenerate five-bar's 6 × 6 grid over a turn of each actuator reaches 3 points, its 16 × 16 one 80),
+#: branches (a degenerate five-bar's 5 × 3 grid over a turn of each actuator reaches 1 point, its 10 × 10 one 39),
 #: and, when a grid or section coordinate is a slide, a narrower range (a 3-RPR's grid over ±8.6, twice its
 #: characteristic length, reached 1 point of 2304: its legs are 1.9 long)
 SPARSE_GRID = 0.1

@@ -143,13 +143,14 @@ def test_singular_start_and_assembly_branches_in_the_text():
 
 def test_a_sparse_grid_suggests_a_finer_one_or_more_branches():
     """The degenerate five-bar of Chablat, Wenger & Angeles 1998 Fig. 6a (base = proximal + distal): its
-    6 × 6 grid over a turn of each actuator reaches 3 points on the start's assembly branch (16 × 16: 80,
-    18 × 18: 100), so the text says how to seed more; a dense enough grid says nothing."""
-    grid = ["--grid", "A=-3.14159:3.14159:6", "B=-3.14159:3.14159:6"]
+    5 × 3 grid over a turn of each actuator reaches 1 point on the start's assembly branch (6 × 6: 12,
+    10 × 10: 39, from the start's regular neighbour), so the text says how to seed more; a dense enough grid
+    says nothing."""
+    grid = ["--grid", "A=-3.14159:3.14159:5", "B=-3.14159:3.14159:3"]
     status, out, err = run(["loci", "five-bar", "--configuration", "fig6a_distal_aligned", *grid,
                             "--kinds", "actuator"])
     assert status == 0, err
-    assert "3 of 36 points reached" in out and "a finer --grid or --branches 2 may seed more loci" in out
+    assert "1 of 15 points reached" in out and "a finer --grid or --branches 2 may seed more loci" in out
     status, out, err = run(["loci", "five-bar", "--configuration", "fig6a_distal_aligned", "--kinds", "actuator"])
     assert status == 0, err
     assert "points reached" in out and "may seed more loci" not in out
