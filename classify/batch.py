@@ -59,6 +59,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from manifold import DEFAULT_ATOL, DEFAULT_RTOL, check_rtol, implicit, tangent_extents
+from manifold.blocks import union_of_values
 from mechanisms import CLOSURE_TOLERANCE, ConfigurationError, Mechanism, closure_and_jacobian
 from mechanisms.kinematics import rotation_blocks
 from mechanisms.mechanism import dense_memory_estimate
@@ -557,10 +558,7 @@ def _block_constraint_values(decomposition, shape, rtol):
     rtol : float
     """
     count, rows, columns = shape
-    pieces = [values.reshape(count, -1) for _, values, _ in decomposition]
-    known = sum(piece.shape[1] for piece in pieces)
-    pieces.append(np.zeros((count, max(min(rows, columns) - known, 0))))
-    values = np.sort(np.concatenate(pieces, axis=1), axis=1)[:, ::-1]
+    values = union_of_values([values for _, values, _ in decomposition], count, min(rows, columns))
     return values, np.maximum(rtol * (values[:, 0] if values.shape[1] else 0.0), DEFAULT_ATOL)
 
 

@@ -26,7 +26,7 @@ from .rank import numerical_rank, rank_of_values
 __all__ = [
     "BlockGroup", "JacobianPattern", "PseudoInverse", "scaled_blocks", "decompose", "block_rank",
     "block_vectors", "dense_basis", "sparse_basis", "pseudo_inverse", "apply_pseudo_inverse", "cap_block_steps",
-    "minimum_norm_solutions", "stacked_singular_values",
+    "minimum_norm_solutions", "stacked_singular_values", "union_of_values",
 ]
 
 
@@ -388,10 +388,17 @@ def stacked_singular_values(pattern, entries, scales):
     """
     entries = np.asarray(entries, dtype=float)
     values = [np.linalg.svd(blocks, compute_uv=False) for _, blocks in
-              _stacked_blocks(pattern, entries, np.asarray(scales, dtype=float))]     # [n, b, s] each
-    values = [value.reshape(len(entries), value.shape[1] * value.shape[2]) for value in values]
-    values = np.concatenate(values + [np.zeros((len(entries), min(pattern.shape)))], axis=1)
-    return -np.sort(-values, axis=1)[:, :min(pattern.shape)]
+              _stacked_blocks(pattern, entries, np.asarray(scales, dtype=float))]
+    return union_of_values(values, len(entries), min(pattern.shape))
+
+
+def union_of_values(values, count, size):
+    """The singular values of a stack of `count` matrices from those of their blocks (one array [n, b, s] per
+    block group), descending, with the zeros up to `size` (``min(c, k)``: rows no entry touches, blocks with
+    more rows than columns) that a dense SVD gives, shape=[n, size]."""
+    values = [value.reshape(count, value.shape[1] * value.shape[2]) for value in values]
+    values = np.concatenate(values + [np.zeros((count, size))], axis=1)
+    return -np.sort(-values, axis=1)[:, :size]
 
 
 def minimum_norm_solutions(pattern, entries, scales, right_hand_side, rcond, sparse_columns=None):
