@@ -493,6 +493,83 @@ def _planar_constants(group):
     return constants
 
 
+@dataclass(frozen=True, eq=False)
+class PlanarTree:
+    """The chains of several planar :class:`ChainGroup` as one tree of their prefixes (:func:`planar_tree`),
+    for the products of all of them in a few array operations (:func:`planar_tree_products`).
+
+    Attributes
+    ----------
+    parents : ndarray of int, shape=[p]
+        Node 0 is the empty prefix (the identity, its own parent); node j > 0 a prefix, its parent the prefix
+        one element shorter.
+    values, signs : ndarray, shape=[p]
+        The last element's point index and sign (as :class:`ChainGroup`'s; 0 at node 0).
+    centres, directions : ndarray of complex, shape=[p]
+        As :func:`_planar_constants` (0 at node 0).
+    rotation : ndarray of bool, shape=[p]
+    ends : ndarray of int, shape=[c]
+        The node of each chain's whole product, by the chains' positions in their set.
+    rounds : int
+        ⌈log₂⌉ of the longest chain's length: the doubling steps of :func:`planar_tree_products`.
+    """
+
+    parents: np.ndarray
+    values: np.ndarray
+    signs: np.ndarray
+    centres: np.ndarray
+    directions: np.ndarray
+    rotation: np.ndarray
+    ends: np.ndarray
+    rounds: int
+
+
+def planar_tree(chain_groups):
+    """The :class:`PlanarTree` of the chains of planar groups (chains from the ground along a spanning tree
+    share their prefixes: the tree has a node per distinct prefix, at most the number of 1-dof elements)."""
+    count = sum(len(group.chains) for group in chain_groups)
+    nodes = {}                                                       # (parent, value, sign) -> node
+    parents, values, signs, centres, directions, rotation = [0], [0], [0.0], [0j], [0j], [True]
+    ends, longest = np.zeros(count, dtype=np.intp), 0
+    for group in chain_groups:
+        group_centres, group_directions, _ = _planar_constants(group)
+        for row, position in enumerate(group.chains):
+            node = 0
+            for column in range(group.values.shape[1]):
+                key = (node, int(group.values[row, column]), float(group.signs[row, column]))
+                if key not in nodes:
+                    nodes[key] = len(parents)
+                    parents.append(node)
+                    values.append(key[1])
+                    signs.append(key[2])
+                    centres.append(group_centres[row, column])
+                    directions.append(group_directions[row, column])
+                    rotation.append(bool(group.rotation[row, column]))
+                node = nodes[key]
+            ends[position] = node
+            longest = max(longest, group.values.shape[1])
+    return PlanarTree(np.array(parents, dtype=np.intp), np.array(values, dtype=np.intp), np.array(signs),
+                      np.array(centres, dtype=complex), np.array(directions, dtype=complex),
+                      np.array(rotation, dtype=bool), ends, int(np.ceil(np.log2(max(longest, 1)))))
+
+
+def planar_tree_products(tree, point):
+    """The products of the chains of a :class:`PlanarTree` as complex numbers ``(r, t)`` (see
+    :func:`planar_prefixes`), shape=[..., c] each, by doubling: each node's product from its ancestor 2ʲ
+    elements up, ``(r, t) ← (r_a r, t_a + r_a t)``, ⌈log₂ L⌉ times — a few array operations over all prefixes
+    where :func:`planar_prefixes` takes one call per shape of chain (a ladder of loops has as many shapes as
+    rungs). The same products to rounding (another order of the same multiplications)."""
+    value = tree.signs * point[..., tree.values]                         # [..., p]
+    rotations = np.where(tree.rotation, np.exp(1j * value), 1.0 + 0j)
+    translations = np.where(tree.rotation, tree.centres * (1.0 - rotations), value * tree.directions)
+    ancestors = tree.parents
+    for _ in range(tree.rounds):
+        above_rotations, above_translations = rotations[..., ancestors], translations[..., ancestors]
+        rotations, translations = above_rotations * rotations, above_translations + above_rotations * translations
+        ancestors = ancestors[ancestors]
+    return rotations[..., tree.ends], translations[..., tree.ends]
+
+
 def planar_twists(group, rotations, translations):
     """Each coordinate's twist carried by its prefix, ``Ad_{P} X`` in the ground frame (planar chains).
 

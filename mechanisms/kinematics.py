@@ -953,12 +953,13 @@ def _planar_reference(compiled, plan, point):
         return np.broadcast_to(angular, batch + (1, angular.size))
     rotations = np.ones(batch + (len(plan.carriers),), dtype=complex)
     translations = np.zeros(batch + (len(plan.carriers),), dtype=complex)
-    groups_at = [(_link_group(compiled, compiled.end_effector_link), np.array([plan.chained - 1]))] \
-        if plan.chained == 2 else []
-    for group, positions in groups_at + [(group, group.chains + plan.chained) for group in plan.carrier_groups]:
-        prefix_rotations, prefix_translations = chains.planar_prefixes(group, point)
-        rotations[..., positions] = prefix_rotations[..., -1]
-        translations[..., positions] = prefix_translations[..., -1]
+    if plan.chained == 2:  # the end-effector's link (unless it is the ground): as Df takes it
+        prefix_rotations, prefix_translations = chains.planar_prefixes(
+            _link_group(compiled, compiled.end_effector_link), point)
+        rotations[..., 1], translations[..., 1] = prefix_rotations[..., 0, -1], prefix_translations[..., 0, -1]
+    # every other carrier's pose from the tree of their chains' prefixes, in a few array operations
+    rotations[..., plan.chained:], translations[..., plan.chained:] = chains.planar_tree_products(
+        plan.planar_tree, point)
     rotation, translation = rotations[..., plan.chained - 1], translations[..., plan.chained - 1]
     position = _planar_point(compiled, rotation, translation)
     linear = plan.twists[:, 1, :] + 1j * plan.twists[:, 2, :]                                  # [c, w]
@@ -1031,13 +1032,15 @@ def _adjoint(space, poses):
 class _ReferencePlan:
     """What :func:`end_effector_reference` evaluates: the links carrying axes (the ground and the end-effector's
     link first: `chained` of them), the chains of the others grouped by shape (a group's ``chains`` are positions
-    among them), and the twists each carries times its coordinates' scales [c, d, w] (zero-padded; at most d
-    columns of their Gram where a link carries more, :func:`_narrowed`)."""
+    among them; for a planar mechanism also as the tree of their prefixes, `planar_tree`), and the twists each
+    carries times its coordinates' scales [c, d, w] (zero-padded; at most d columns of their Gram where a link
+    carries more, :func:`_narrowed`)."""
 
     carriers: tuple
     chained: int
     carrier_groups: tuple
     twists: np.ndarray
+    planar_tree: Optional[chains.PlanarTree] = None
 
 
 _REFERENCE_PLANS = weakref.WeakKeyDictionary()
@@ -1068,9 +1071,9 @@ def _reference_plan(mechanism):
     twists = np.zeros((len(links), dimension, max(block.shape[1] for block in blocks)))
     for position, block in enumerate(blocks):
         twists[position, :, :block.shape[1]] = block
-    plan = _ReferencePlan(links, len(first),
-                          chains.groups_of(space, [compiled.link_chains[link] for link in links[len(first):]]),
-                          twists)
+    carrier_groups = chains.groups_of(space, [compiled.link_chains[link] for link in links[len(first):]])
+    plan = _ReferencePlan(links, len(first), carrier_groups, twists,
+                          chains.planar_tree(carrier_groups) if space == "planar" else None)
     _REFERENCE_PLANS[mechanism] = plan
     return plan
 

@@ -10,7 +10,8 @@ of three-angle parametrisations.
 import numpy as np
 import pytest
 
-from builders import bennett, five_bar, five_bar_positions, rsur, spatial_mix, spherical_four_bar
+from builders import bennett, five_bar, five_bar_positions, ladder, rsur, spatial_mix, spherical_four_bar
+from mechanisms.catalogue import entry
 from mechanisms.catalogue.slider_crank import slider_crank
 from mechanisms.kinematics import _nearest_point, loop_origin
 from manifold import ImplicitManifold, ProjectionError, numerical_rank, project, rotation_exp, tangent_basis
@@ -347,3 +348,42 @@ def test_an_end_effector_on_the_ground_never_moves(output):
 
     report = classify(mechanism, point)
     assert report.kinds == () and (report.end_effector.rank, report.end_effector.expected_rank) == (0, 0)
+
+
+PREFIX_TREE_MECHANISMS = {
+    "ladder of 1": lambda: ladder(1, tail=2),
+    "ladder of 3": lambda: ladder(3, tail=2),
+    "ladder of 40": lambda: ladder(40, tail=2),
+    "3-PRR": lambda: entry("3-prr").mechanism(),
+    "slider-crank": lambda: entry("slider-crank").mechanism(),
+}
+
+
+@pytest.mark.parametrize("name", sorted(PREFIX_TREE_MECHANISMS))
+def test_the_prefix_tree_of_planar_chains_gives_their_products(name):
+    """mechanisms._chains.planar_tree_products (doubling over the tree of the chains' prefixes, ⌈log₂ L⌉
+    steps) equals planar_prefixes chain by chain to rounding, for every link of planar mechanisms (the
+    end-effector reference's carriers: a ladder 40 loops deep has one chain shape per rung; the 3-PRR and the
+    slider-crank have P joints), at random points of K and on a stack; the tree has a node per distinct
+    prefix, at most one per joint."""
+    from mechanisms import _chains as chains
+
+    rng = np.random.default_rng(43)
+    mechanism = PREFIX_TREE_MECHANISMS[name]()
+    compiled = kinematics_of(mechanism)
+    links = [link for link in compiled.link_chains if link != mechanism.ground]
+    groups = chains.groups_of("planar", [compiled.link_chains[link] for link in links])
+    tree = chains.planar_tree(groups)
+    assert len(tree.parents) <= 1 + len(mechanism.joints)
+    assert name.startswith("ladder") or not all(group.rotation.all() for group in groups)  # P joints
+    points = compiled.ambient.retract(np.broadcast_to(home(mechanism), (3, compiled.ambient.point_size)),
+                                      rng.standard_normal((3, compiled.ambient.dim)) * compiled.ambient.tangent_scales)
+    rotations, translations = chains.planar_tree_products(tree, points)
+    size = np.max(np.abs(translations))
+    for group in groups:
+        expected_rotations, expected_translations = chains.planar_prefixes(group, points)
+        np.testing.assert_allclose(rotations[:, group.chains], expected_rotations[..., -1], rtol=0, atol=1e-13)
+        np.testing.assert_allclose(translations[:, group.chains], expected_translations[..., -1], rtol=0,
+                                   atol=1e-13 * size)
+    single = chains.planar_tree_products(tree, points[1])
+    np.testing.assert_array_equal(single[0], rotations[1])
