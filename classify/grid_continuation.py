@@ -104,6 +104,8 @@ REGULAR_RTOL = 1e-6
 BRANCH_SEPARATION = 1e-3
 #: dimensionless step sizes from a singular start to its regular neighbour, tried in order
 NEIGHBOUR_STEPS = (0.05, 0.1, 0.2)
+#: coordinate axes whose neighbours :func:`regular_start` corrects together (both signs: twice as many points)
+NEIGHBOUR_CHUNK = 256
 
 
 @dataclass(frozen=True)
@@ -405,9 +407,10 @@ def held_margins(mechanism, points, held):
     return margins
 
 
-def neighbour_directions(basis):
+def neighbour_directions(basis, axes=None):
     """The directions of T_pM toward :func:`regular_start`'s neighbours: each coordinate axis projected onto
-    T_pM, normalised, shape=[d, k] (the axes that M moves along, in the order of the coordinates).
+    T_pM, normalised, shape=[d, k] (the axes that M moves along, in the order of the coordinates), and those
+    axes, shape=[d].
 
     The projection ``U Uᵀ eⱼ`` does not depend on which orthonormal basis U
     of T_pM (dimensionless, shape=[k, m]) is given — an SVD's or the blocks'
@@ -415,12 +418,14 @@ def neighbour_directions(basis):
     in sign — so neither do the neighbours, nor which grid points the map
     reaches from them; an axis sign or a joint zero changes a direction's
     sign at most (both are tried). Axes that M does not move along (a
-    projection shorter than 1e-9) are left out.
+    projection shorter than 1e-9) are left out. `axes` (default all) are the
+    axes to project, so that a large mechanism's are taken a chunk at a time.
     """
-    projections = basis @ basis.T                                   # [k, k]: row j is (U Uᵀ eⱼ)ᵀ
+    axes = np.arange(basis.shape[0]) if axes is None else np.asarray(axes, dtype=np.intp)
+    projections = basis[axes] @ basis.T                             # [a, k]: row j is (U Uᵀ eⱼ)ᵀ
     lengths = np.linalg.norm(projections, axis=1)
     moving = lengths > 1e-9
-    return projections[moving] / lengths[moving, None]
+    return projections[moving] / lengths[moving, None], axes[moving]
 
 
 def regular_start(mechanism, start, held):
@@ -450,18 +455,26 @@ def regular_start(mechanism, start, held):
     if margin > REGULAR_RTOL:
         return StartingPoint(start, False, 0.0, margin)
     scales = ambient.tangent_scales
-    tangent = neighbour_directions(tangent_basis(space, start)[0] / scales[:, None]) * scales
-    directions = np.concatenate([tangent, -tangent])
+    basis = tangent_basis(space, start)[0] / scales[:, None]  # dimensionless, orthonormal
     for size in NEIGHBOUR_STEPS:
-        guesses = ambient.retract(np.broadcast_to(start, (len(directions), start.size)), size * directions)
-        corrected, residuals = _correct(mechanism, guesses, np.arange(ambient.dim), 4 * _CORRECTOR_ITERATIONS)
-        moved = np.linalg.norm(ambient.inverse_retract(start, corrected) / scales, axis=-1)
-        margins = held_margins(mechanism, corrected, held)
-        good = ((residuals <= _TOLERANCE) & np.asarray(closes(mechanism, corrected, _TOLERANCE), dtype=bool)
-                & (moved <= 2 * size) & (margins > REGULAR_RTOL))
-        if good.any():
-            best = int(np.argmax(np.where(good, margins, -np.inf)))
-            return StartingPoint(corrected[best], True, float(moved[best]), float(margins[best]))
+        best, best_key = None, None
+        for first in range(0, ambient.dim, NEIGHBOUR_CHUNK):  # a chunk of axes at a time: bounded memory
+            tangent, axes = neighbour_directions(basis, np.arange(first, min(first + NEIGHBOUR_CHUNK, ambient.dim)))
+            directions = np.concatenate([tangent, -tangent]) * scales
+            keys = [(0, axis) for axis in axes] + [(1, axis) for axis in axes]
+            guesses = ambient.retract(np.broadcast_to(start, (len(directions), start.size)), size * directions)
+            corrected, residuals = _correct(mechanism, guesses, np.arange(ambient.dim), 4 * _CORRECTOR_ITERATIONS)
+            moved = np.linalg.norm(ambient.inverse_retract(start, corrected) / scales, axis=-1)
+            margins = held_margins(mechanism, corrected, held)
+            good = ((residuals <= _TOLERANCE) & np.asarray(closes(mechanism, corrected, _TOLERANCE), dtype=bool)
+                    & (moved <= 2 * size) & (margins > REGULAR_RTOL))
+            for index in np.flatnonzero(good):  # the best conditioned; of equal ones, + before −, then by axis
+                key = (-float(margins[index]), keys[index])
+                if best_key is None or key < best_key:
+                    best_key = key
+                    best = StartingPoint(corrected[index], True, float(moved[index]), float(margins[index]))
+        if best is not None:
+            return best
     return StartingPoint(start, True, 0.0, margin)
 
 

@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 from builders import ladder
+from classify import grid_continuation
 from classify.grid_continuation import assemble_grid, held_margins, regular_start
 from manifold import JacobianPattern, implicit
 from mechanisms import configuration, from_displacements, home
@@ -100,3 +101,6 @@ def test_the_regular_neighbour_does_not_depend_on_the_basis_of_the_tangent_space
     again = regular_start(mechanism, start, held)
     np.testing.assert_allclose(again.point, found.point, atol=1e-9)
     assert again.margin == pytest.approx(found.margin, rel=1e-9)
+    monkeypatch.setattr(grid_continuation, "NEIGHBOUR_CHUNK", 3)  # the axes a few at a time: the same choice
+    chunked = regular_start(mechanism, start, held)
+    np.testing.assert_allclose(chunked.point, again.point, atol=1e-9)
