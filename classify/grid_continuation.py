@@ -49,7 +49,9 @@ neighbour on M instead (:func:`regular_start`): a step of
 0.05, 0.1 or 0.2 (dimensionless, :data:`NEIGHBOUR_STEPS`) from the start
 along each coordinate axis projected onto T_pM (both ways; no arbitrary
 basis of T_pM chooses them: :func:`neighbour_directions`), corrected onto M, the first
-size at which one is regular, and of those the best conditioned. A small
+size at which one is regular, and of those the best conditioned (of equally
+well conditioned ones, by a convention of the coordinates, the others
+reported: :func:`regular_start`). A small
 step along M stays on the start's connected part of M; where the start is
 a fold between two assembly modes, the neighbour is in one of them.
 
@@ -70,13 +72,13 @@ from __future__ import annotations
 
 import math
 import numbers
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
 __all__ = ["Grid", "grid_targets", "held_columns", "held_entries", "assemble_grid", "grid_neighbours",
            "regular_start", "neighbour_directions", "held_margins", "StartingPoint", "REGULAR_RTOL", "NEIGHBOUR_STEPS",
-           "assemble_branches", "BRANCH_SEPARATION"]
+           "TIE_RTOL", "assemble_branches", "BRANCH_SEPARATION"]
 
 #: ‖Φ‖ of an assembled grid point (the default of :func:`mechanisms.assemble`)
 _TOLERANCE = 1e-10
@@ -106,6 +108,10 @@ BRANCH_SEPARATION = 1e-3
 NEIGHBOUR_STEPS = (0.05, 0.1, 0.2)
 #: coordinate axes whose neighbours :func:`regular_start` corrects together (both signs: twice as many points)
 NEIGHBOUR_CHUNK = 256
+#: relative difference of margins within which :func:`regular_start`'s neighbours are equally well conditioned:
+#: mirror-image neighbours' margins differ by the rounding of their separate corrections (1e-14), which must not
+#: choose between them
+TIE_RTOL = 1e-6
 
 
 @dataclass(frozen=True)
@@ -122,16 +128,29 @@ class StartingPoint:
         Dimensionless distance from the given start to `point` (0 when regular).
     margin : float
         At `point`: ``σ_r(DΦ_free·s) / σ₁(DΦ·s)`` (r the rank of DΦ·s there), against :data:`REGULAR_RTOL`.
+    alternatives : ndarray, shape=[t, point_size]
+        The other neighbours as well conditioned as `point` (within :data:`TIE_RTOL`), distinct from it and from
+        each other: a start symmetric between its neighbours (the slider-crank at a dead centre between its two
+        mirror-image assembly modes) has no neighbour better than the others, and which of them is `point`
+        follows the coordinates' orientation (:func:`regular_start`). Empty when the neighbour is unique.
     """
 
     point: np.ndarray
     singular: bool
     moved: float
     margin: float
+    alternatives: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
+
+    @property
+    def tied(self):
+        """How many distinct neighbours were equally well conditioned: 1 + len(alternatives) (1 at a regular
+        start)."""
+        return 1 + len(self.alternatives)
 
     def to_dict(self):
-        """``{"singular", "moved", "margin", "tolerance"}`` for a coverage or a JSON document."""
-        return {"singular": self.singular, "moved": self.moved, "margin": self.margin, "tolerance": REGULAR_RTOL}
+        """``{"singular", "moved", "margin", "tolerance", "tied"}`` for a coverage or a JSON document."""
+        return {"singular": self.singular, "moved": self.moved, "margin": self.margin, "tolerance": REGULAR_RTOL,
+                "tied": self.tied}
 
 
 @dataclass(frozen=True)
@@ -431,6 +450,15 @@ def neighbour_directions(basis, axes=None):
 def regular_start(mechanism, start, held):
     """The start itself when it is regular for the held coordinates, else a regular neighbour on M (module notes).
 
+    Of the neighbours at the first step size at which one is regular, the best conditioned (largest margin)
+    is taken. Those within :data:`TIE_RTOL` of the best are equally good (a start symmetric between them, as a
+    dead centre between two mirror-image assembly modes, or neighbours whose margins differ by rounding): of
+    them the one of the first coordinate axis, + before −, is taken — a convention of the coordinates (an axis
+    sign or the joints' order picks another), so the others are returned too (``alternatives``) and counted
+    in the map's ``start.tied``. No choice among them can be independent of every coordinate change: flipping
+    every axis of a planar mechanism describes the same mechanism turned over, and turns each mirror-image
+    neighbour into the other.
+
     Parameters
     ----------
     mechanism : Mechanism
@@ -457,25 +485,52 @@ def regular_start(mechanism, start, held):
     scales = ambient.tangent_scales
     basis = tangent_basis(space, start)[0] / scales[:, None]  # dimensionless, orthonormal
     for size in NEIGHBOUR_STEPS:
-        best, best_key = None, None
+        found = _Neighbours(ambient, start)
         for first in range(0, ambient.dim, NEIGHBOUR_CHUNK):  # a chunk of axes at a time: bounded memory
             tangent, axes = neighbour_directions(basis, np.arange(first, min(first + NEIGHBOUR_CHUNK, ambient.dim)))
             directions = np.concatenate([tangent, -tangent]) * scales
-            keys = [(0, axis) for axis in axes] + [(1, axis) for axis in axes]
+            keys = [(0, int(axis)) for axis in axes] + [(1, int(axis)) for axis in axes]
             guesses = ambient.retract(np.broadcast_to(start, (len(directions), start.size)), size * directions)
             corrected, residuals = _correct(mechanism, guesses, np.arange(ambient.dim), 4 * _CORRECTOR_ITERATIONS)
             moved = np.linalg.norm(ambient.inverse_retract(start, corrected) / scales, axis=-1)
             margins = held_margins(mechanism, corrected, held)
             good = ((residuals <= _TOLERANCE) & np.asarray(closes(mechanism, corrected, _TOLERANCE), dtype=bool)
                     & (moved <= 2 * size) & (margins > REGULAR_RTOL))
-            for index in np.flatnonzero(good):  # the best conditioned; of equal ones, + before −, then by axis
-                key = (-float(margins[index]), keys[index])
-                if best_key is None or key < best_key:
-                    best_key = key
-                    best = StartingPoint(corrected[index], True, float(moved[index]), float(margins[index]))
-        if best is not None:
-            return best
+            for index in np.flatnonzero(good):
+                found.add(float(margins[index]), keys[index], corrected[index], float(moved[index]))
+        if found.tied:
+            return found.choice()
     return StartingPoint(start, True, 0.0, margin)
+
+
+class _Neighbours:
+    """The regular neighbours of a singular start within :data:`TIE_RTOL` of the best margin so far, one per
+    distinct configuration (farther apart than :data:`BRANCH_SEPARATION`, dimensionless), each with its
+    smallest key ``(sign, axis)``: memory O(distinct ties · k) whatever the number of axes, and the same set
+    whatever order the axes come in."""
+
+    def __init__(self, ambient, start):
+        self.ambient, self.start, self.best, self.tied = ambient, start, -math.inf, []
+
+    def add(self, margin, key, point, moved):
+        if margin < self.best * (1.0 - TIE_RTOL):
+            return
+        self.best = max(self.best, margin)
+        self.tied = [entry for entry in self.tied if entry[0] >= self.best * (1.0 - TIE_RTOL)]
+        scales = self.ambient.tangent_scales
+        for position, entry in enumerate(self.tied):
+            if np.linalg.norm(self.ambient.inverse_retract(entry[2], point) / scales) <= BRANCH_SEPARATION:
+                if key < entry[1]:
+                    self.tied[position] = (margin, key, point, moved)
+                return
+        self.tied.append((margin, key, point, moved))
+
+    def choice(self):
+        """The tied neighbour of the smallest key, the others as its alternatives (in key order)."""
+        ordered = sorted(self.tied, key=lambda entry: entry[1])
+        margin, _, point, moved = ordered[0]
+        others = np.array([entry[2] for entry in ordered[1:]]).reshape(len(ordered) - 1, point.size)
+        return StartingPoint(point, True, moved, margin, others)
 
 
 def grid_neighbours(shape):

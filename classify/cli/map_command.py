@@ -22,8 +22,10 @@ for the held coordinates (e.g. an actuator singularity of a grid over the
 inputs) continuation can reach nothing: the grid points it leaves are then
 started from a regular neighbour on M
 (:func:`classify.grid_continuation.regular_start`), said in the output
-(JSON ``"start": {"singular", "moved", "margin", "tolerance"}``, null with
-``--project``).
+(JSON ``"start": {"singular", "moved", "margin", "tolerance", "tied"}``, null
+with ``--project``; ``tied`` > 1 where other neighbours were as well
+conditioned, as the two mirror-image assembly modes next to a dead centre:
+which one the map follows is then a convention of the coordinates).
 
 Projection (``--project``). Each grid point's configuration (the starting
 configuration with the grid coordinates set) is projected onto M
@@ -264,7 +266,8 @@ def run(arguments, out):
     summary_text = "map of " + outputs.summary_line(summary, grid.size, "grid points")
     if starting is not None and starting.singular:
         summary_text += " (the start is singular for the held coordinates" + (
-            f"; the points it leaves continued from a regular neighbour on M {starting.moved:.3g} away)"
+            f"; the points it leaves continued from a regular neighbour on M {starting.moved:.3g} away"
+            + (f", one of {starting.tied} as well conditioned)" if starting.tied > 1 else ")")
             if starting.moved else ")")
     if file_format == "npz":
         outputs.write_npz(arguments.out, _arrays(mechanism, grid, points, reachable, result, displacements,

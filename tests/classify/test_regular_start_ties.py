@@ -1,0 +1,98 @@
+"""Equally well conditioned neighbours of a singular start (:func:`classify.grid_continuation.regular_start`).
+
+The slider-crank driven at its slider, at the dead centre (crank and
+coupler aligned: an actuator singularity, the start of ``closedchain map``
+over the slide), is symmetric between its two mirror-image assembly modes:
+its neighbours along T_pM have margins equal to the rounding of their
+corrections. The choice between them was ``(−margin, sign, axis)``, so that
+the rounding of the margins, or an axis written the other way, picked the
+other mirror image without saying so. Ties are now within
+:data:`~classify.grid_continuation.TIE_RTOL`, chosen by the coordinates'
+convention, and reported (``alternatives``, ``tied``).
+"""
+
+import json
+
+import numpy as np
+import pytest
+
+from classify import grid_continuation
+from classify.cli import main
+from classify.displacements import displacements_of
+from classify.grid_continuation import regular_start
+from mechanisms import catalogue, configuration, flip_axis
+
+
+@pytest.fixture(scope="module")
+def dead_centre():
+    """The slider-crank at its dead centre driven at the slide, its start and held coordinates."""
+    mechanism = catalogue.entry("slider-crank").mechanism("fig3d_dead_centre")
+    return mechanism, configuration(mechanism, {}).point, tuple(sorted(mechanism.actuated_coordinates))
+
+
+def neighbours(mechanism, starting, flipped=None):
+    """The tied neighbours' joint displacements, chosen first, shape=[t, 4], in the coordinates of the
+    mechanism before `flipped` (a joint name) was flipped."""
+    found = displacements_of(mechanism, np.concatenate([starting.point[None], starting.alternatives]))
+    if flipped is not None:
+        found[:, [joint.name for joint in mechanism.joints].index(flipped)] *= -1.0
+    return found
+
+
+def test_the_two_mirror_images_at_a_dead_centre_are_reported_tied(dead_centre):
+    mechanism, start, held = dead_centre
+    found = regular_start(mechanism, start, held)
+    assert found.singular and found.moved > 0 and found.tied == 2 and found.to_dict()["tied"] == 2
+    chosen, other = neighbours(mechanism, found)
+    revolute = [joint.type == "R" for joint in mechanism.joints]
+    # the mirror image across the slide: every angle negated, the slide the same
+    np.testing.assert_allclose(other[revolute], -chosen[revolute], atol=1e-9)
+    np.testing.assert_allclose(other[~np.array(revolute)], chosen[~np.array(revolute)], atol=1e-9)
+    assert np.max(np.abs(chosen[revolute])) > 1e-2
+
+
+@pytest.mark.parametrize("joint", ["crank", "pin", "wrist", "slide"])
+def test_the_tied_neighbours_do_not_depend_on_an_axis_sign(dead_centre, joint):
+    """Flipping the crank's axis made ``map`` follow the other mirror image without a word; which one is
+    chosen still follows the coordinates (no choice could not: module notes), but the pair is the same."""
+    mechanism, _, held = dead_centre
+    expected = neighbours(mechanism, regular_start(mechanism, dead_centre[1], held))
+    flipped = flip_axis(mechanism, joint)
+    found = regular_start(flipped, configuration(flipped, {}).point, held)
+    assert found.tied == 2
+    got = neighbours(flipped, found, joint)
+    order = np.argsort(got[:, 0] * 1e6 + got[:, 1])  # the pair as a set
+    np.testing.assert_allclose(got[order], expected[np.argsort(expected[:, 0] * 1e6 + expected[:, 1])], atol=1e-9)
+
+
+def test_rounding_of_the_margins_does_not_choose_between_mirror_images(dead_centre, monkeypatch):
+    """The margins of the − neighbours raised by 1e-12 (relative): the exact comparison took them."""
+    mechanism, start, held = dead_centre
+    expected = regular_start(mechanism, start, held)
+    original = grid_continuation.held_margins
+
+    def rounded(mechanism, points, held):
+        margins = original(mechanism, points, held)
+        if np.ndim(points) == 2 and len(points) > 1:
+            margins[len(margins) // 2:] *= 1.0 + 1e-12
+        return margins
+
+    monkeypatch.setattr(grid_continuation, "held_margins", rounded)
+    found = regular_start(mechanism, start, held)
+    np.testing.assert_array_equal(found.point, expected.point)
+    assert found.tied == 2
+
+
+def test_the_map_says_the_start_was_tied(capsys):
+    argv = ["map", "slider-crank", "--configuration", "fig3d_dead_centre", "--grid", "slide=-0.3:0:4"]
+    assert main(argv + ["--format", "json"]) == 0
+    start = json.loads(capsys.readouterr().out)["start"]
+    assert start["singular"] and start["tied"] == 2
+    assert main(argv) == 0
+    assert "one of 2 as well conditioned" in capsys.readouterr().out
+
+
+def test_a_regular_start_is_untied():
+    mechanism = catalogue.entry("slider-crank").mechanism()
+    found = regular_start(mechanism, configuration(mechanism, {}).point, tuple(mechanism.actuated_coordinates))
+    assert not found.singular and found.tied == 1 and found.alternatives.shape[0] == 0
