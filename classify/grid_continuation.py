@@ -72,7 +72,7 @@ from __future__ import annotations
 
 import math
 import numbers
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field as dataclass_field
 
 import numpy as np
 
@@ -139,7 +139,7 @@ class StartingPoint:
     singular: bool
     moved: float
     margin: float
-    alternatives: np.ndarray = field(default_factory=lambda: np.zeros((0, 0)))
+    alternatives: np.ndarray = dataclass_field(default_factory=lambda: np.zeros((0, 0)))
 
     @property
     def tied(self):
