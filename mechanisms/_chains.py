@@ -27,8 +27,9 @@ from . import _groups as groups
 __all__ = [
     "Element", "Chain", "ChainGroup", "LinkChains", "elements_of_joint", "chains_of", "chain_coordinates",
     "chain_shape", "chain_group", "groups_of", "loop_pattern", "element_matrices", "expand_group", "expand",
-    "loop_products", "hessian_blocks", "planar_prefixes", "planar_twists", "planar_loops",
-    "carried_twists", "loop_first_order", "first_derivatives",
+    "loop_products", "hessian_blocks", "planar_prefixes", "planar_twists", "planar_loops", "PlanarTree",
+    "planar_tree", "planar_tree_products", "MatrixTree", "matrix_tree", "matrix_tree_products", "carried_twists",
+    "loop_first_order", "first_derivatives",
 ]
 
 
@@ -169,15 +170,33 @@ def chain_group(space, chains, positions):
     """The :class:`ChainGroup` of chains of one shape (:func:`chain_shape`)."""
     size = groups.MATRIX_SIZE[space]
     coordinates = [chain_coordinates(chain) for chain in chains]
-    length = len(chains[0].elements)
     count = len(chains)
+    values, signs, element_twists, rotation, balls = _element_arrays(space, [chain.elements for chain in chains])
+    return ChainGroup(
+        chains=np.asarray(positions, dtype=np.intp),
+        slots=np.array([entry[2] for entry in coordinates[0]], dtype=np.intp),
+        numbers=np.array([entry[3] for entry in coordinates[0]], dtype=np.intp),
+        columns=np.array([[entry[0] for entry in chain] for chain in coordinates], dtype=np.intp)
+        .reshape(count, -1),
+        twists=np.array([[entry[1] for entry in chain] for chain in coordinates], dtype=float)
+        .reshape(count, -1, size, size),
+        values=values, signs=signs, element_twists=element_twists,
+        element_squares=element_twists @ element_twists, rotation=rotation, balls=balls,
+    )
+
+
+def _element_arrays(space, rows):
+    """What :func:`element_matrices` reads of rows of elements, each row as long as the first: ``values``,
+    ``signs``, ``element_twists`` [g, L, n, n], ``rotation`` and ``balls`` (see :class:`ChainGroup`)."""
+    size = groups.MATRIX_SIZE[space]
+    count, length = len(rows), len(rows[0]) if rows else 0
     values = np.zeros((count, length), dtype=np.intp)
     signs = np.ones((count, length))
     element_twists = np.zeros((count, length, size, size))
     rotation = np.zeros((count, length), dtype=bool)
     balls = []
-    for row, chain in enumerate(chains):
-        for number, element in enumerate(chain.elements):
+    for row, elements in enumerate(rows):
+        for number, element in enumerate(elements):
             if element.kind == "ball":
                 start = element.point_part.start
                 balls.append((row, number, np.arange(start, start + 9), element.center, element.inverse))
@@ -193,17 +212,7 @@ def chain_group(space, chains, positions):
                        np.array([entry[2] for entry in balls], dtype=np.intp),
                        np.array([entry[3] for entry in balls], dtype=float),
                        np.array([entry[4] for entry in balls], dtype=bool))
-    return ChainGroup(
-        chains=np.asarray(positions, dtype=np.intp),
-        slots=np.array([entry[2] for entry in coordinates[0]], dtype=np.intp),
-        numbers=np.array([entry[3] for entry in coordinates[0]], dtype=np.intp),
-        columns=np.array([[entry[0] for entry in chain] for chain in coordinates], dtype=np.intp)
-        .reshape(count, -1),
-        twists=np.array([[entry[1] for entry in chain] for chain in coordinates], dtype=float)
-        .reshape(count, -1, size, size),
-        values=values, signs=signs, element_twists=element_twists,
-        element_squares=element_twists @ element_twists, rotation=rotation, balls=ball_arrays,
-    )
+    return values, signs, element_twists, rotation, ball_arrays
 
 
 def groups_of(space, chains):
@@ -568,6 +577,85 @@ def planar_tree_products(tree, point):
         rotations, translations = above_rotations * rotations, above_translations + above_rotations * translations
         ancestors = ancestors[ancestors]
     return rotations[..., tree.ends], translations[..., tree.ends]
+
+
+@dataclass(frozen=True, eq=False)
+class MatrixTree:
+    """Chains as one tree of their prefixes (:func:`matrix_tree`), for the products of all of them in a few
+    array operations (:func:`matrix_tree_products`): the matrix form of :class:`PlanarTree`, for every space.
+
+    Attributes
+    ----------
+    values, signs, element_twists, element_squares, rotation, balls
+        Node j's last element, as a :class:`ChainGroup`'s of p chains of one element each (what
+        :func:`element_matrices` reads); node 0 is the empty prefix, the identity.
+    parents : ndarray of int, shape=[p]
+        Each node's prefix one element shorter (node 0 its own).
+    ends : ndarray of int, shape=[c]
+        The node of each chain's whole product, in the chains' order.
+    rounds : int
+        ⌈log₂⌉ of the longest chain's length: the doubling steps of :func:`matrix_tree_products`.
+    """
+
+    values: np.ndarray
+    signs: np.ndarray
+    element_twists: np.ndarray
+    element_squares: np.ndarray
+    rotation: np.ndarray
+    balls: Optional[tuple]
+    parents: np.ndarray
+    ends: np.ndarray
+    rounds: int
+
+
+def _element_key(element):
+    """What makes two elements the same factor of a product (their twists' bytes: one joint's element may be
+    written about different points in different chains)."""
+    if element.kind == "ball":
+        return "ball", element.point_part.start, bool(element.inverse), np.asarray(element.center).tobytes()
+    return element.kind, int(element.point_part), float(element.sign), np.asarray(element.twists[0]).tobytes()
+
+
+def matrix_tree(space, chains):
+    """The :class:`MatrixTree` of `chains` (chains from the ground along a spanning tree share their
+    prefixes: a node per distinct prefix, at most the number of elements)."""
+    nodes, parents, last = {}, [0], [None]                # (parent, element key) -> node; its last element
+    ends, longest = np.zeros(len(chains), dtype=np.intp), 0
+    for position, chain in enumerate(chains):
+        node = 0
+        for element in chain.elements:
+            key = (node, _element_key(element))
+            if key not in nodes:
+                nodes[key] = len(parents)
+                parents.append(node)
+                last.append(element)
+            node = nodes[key]
+        ends[position] = node
+        longest = max(longest, len(chain.elements))
+    values, signs, element_twists, rotation, balls = _element_arrays(space, [[element] for element in last[1:]])
+    size = groups.MATRIX_SIZE[space]
+    # node 0: a translation by zero along no axis, the identity
+    values = np.concatenate([np.zeros((1, 1), dtype=np.intp), values.reshape(-1, 1)])
+    signs = np.concatenate([np.zeros((1, 1)), signs.reshape(-1, 1)])
+    element_twists = np.concatenate([np.zeros((1, 1, size, size)), element_twists.reshape(-1, 1, size, size)])
+    rotation = np.concatenate([np.zeros((1, 1), dtype=bool), rotation.reshape(-1, 1)])
+    if balls is not None:
+        balls = (balls[0] + 1,) + balls[1:]
+    return MatrixTree(values, signs, element_twists, element_twists @ element_twists, rotation, balls,
+                      np.array(parents, dtype=np.intp), ends, int(np.ceil(np.log2(max(longest, 1)))))
+
+
+def matrix_tree_products(space, tree, point):
+    """The products of the chains of a :class:`MatrixTree`, shape=[..., c, n, n], by doubling: each node's
+    product from its ancestor 2ʲ elements up, ``T ← T_a T``, ⌈log₂ L⌉ times — a few array operations over all
+    prefixes where :func:`expand_group` takes one call per shape of chain, L products each. The same products
+    to rounding (another order of the same multiplications)."""
+    products = element_matrices(space, tree, point)[..., 0, :, :]          # [..., p, n, n]
+    ancestors = tree.parents
+    for _ in range(tree.rounds):
+        products = products[..., ancestors, :, :] @ products
+        ancestors = ancestors[ancestors]
+    return products[..., tree.ends, :, :]
 
 
 def planar_twists(group, rotations, translations):

@@ -919,8 +919,8 @@ def _screw_reference(mechanism, compiled, plan, point):
     poses = np.empty(point.shape[:-1] + (len(plan.carriers), size, size))
     poses[..., 0, :, :] = np.eye(size)                                                    # the ground
     poses[..., plan.chained - 1, :, :] = product            # the end-effector's link (unless it is the ground)
-    for group in plan.carrier_groups:
-        poses[..., group.chains + plan.chained, :, :] = chains.expand_group(compiled.space, group, point, 0)[0]
+    # every other carrier's pose from the tree of their chains' prefixes, in a few array operations
+    poses[..., plan.chained:, :, :] = chains.matrix_tree_products(compiled.space, plan.tree, point)
     carried = _adjoint(compiled.space, poses) @ plan.twists                               # [..., c, d, w]
     count, dimension, width = carried.shape[-3:]
     twists = np.moveaxis(carried, -3, -2).reshape(carried.shape[:-3] + (dimension, count * width))  # [..., d, c·w]
@@ -958,8 +958,7 @@ def _planar_reference(compiled, plan, point):
             _link_group(compiled, compiled.end_effector_link), point)
         rotations[..., 1], translations[..., 1] = prefix_rotations[..., 0, -1], prefix_translations[..., 0, -1]
     # every other carrier's pose from the tree of their chains' prefixes, in a few array operations
-    rotations[..., plan.chained:], translations[..., plan.chained:] = chains.planar_tree_products(
-        plan.planar_tree, point)
+    rotations[..., plan.chained:], translations[..., plan.chained:] = chains.planar_tree_products(plan.tree, point)
     rotation, translation = rotations[..., plan.chained - 1], translations[..., plan.chained - 1]
     position = _planar_point(compiled, rotation, translation)
     linear = plan.twists[:, 1, :] + 1j * plan.twists[:, 2, :]                                  # [c, w]
@@ -1031,16 +1030,15 @@ def _adjoint(space, poses):
 @dataclass(frozen=True)
 class _ReferencePlan:
     """What :func:`end_effector_reference` evaluates: the links carrying axes (the ground and the end-effector's
-    link first: `chained` of them), the chains of the others grouped by shape (a group's ``chains`` are positions
-    among them; for a planar mechanism also as the tree of their prefixes, `planar_tree`), and the twists each
-    carries times its coordinates' scales [c, d, w] (zero-padded; at most d columns of their Gram where a link
-    carries more, :func:`_narrowed`)."""
+    link first: `chained` of them), the chains of the others as the tree of their prefixes (`tree`: a
+    :class:`~mechanisms._chains.PlanarTree` for a planar mechanism, else a :class:`~mechanisms._chains.MatrixTree`),
+    and the twists each carries times its coordinates' scales [c, d, w] (zero-padded; at most d columns of their
+    Gram where a link carries more, :func:`_narrowed`)."""
 
     carriers: tuple
     chained: int
-    carrier_groups: tuple
+    tree: object
     twists: np.ndarray
-    planar_tree: Optional[chains.PlanarTree] = None
 
 
 _REFERENCE_PLANS = weakref.WeakKeyDictionary()
@@ -1071,9 +1069,10 @@ def _reference_plan(mechanism):
     twists = np.zeros((len(links), dimension, max(block.shape[1] for block in blocks)))
     for position, block in enumerate(blocks):
         twists[position, :, :block.shape[1]] = block
-    carrier_groups = chains.groups_of(space, [compiled.link_chains[link] for link in links[len(first):]])
-    plan = _ReferencePlan(links, len(first), carrier_groups, twists,
-                          chains.planar_tree(carrier_groups) if space == "planar" else None)
+    carrier_chains = [compiled.link_chains[link] for link in links[len(first):]]
+    tree = (chains.planar_tree(chains.groups_of(space, carrier_chains)) if space == "planar"
+            else chains.matrix_tree(space, carrier_chains))
+    plan = _ReferencePlan(links, len(first), tree, twists)
     _REFERENCE_PLANS[mechanism] = plan
     return plan
 
