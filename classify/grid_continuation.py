@@ -41,7 +41,11 @@ held coordinates — DΦ restricted to the free ones, ``DΦ_free·s``, has a
 lower rank than DΦ·s, as at an actuator singularity when the grid is over
 the actuated coordinates (Chablat, Wenger & Angeles 1998 eq. 9: the
 five-bar's distal links aligned) — the first continuation step has no
-unique predictor and can reach nothing. When no grid point left is reached
+unique predictor and can reach nothing. So it is at a C-space singularity,
+where DΦ·s itself has a lower rank than on M (branches of M may cross:
+Park & Kim 1999 Fig. 1, the five-bar's joints collinear), when the caller
+gives that rank (``constraint_rank``, the survey's: ``closedchain map``
+does). When no grid point left is reached
 from the start, the remaining ones (those tried from the start and missed
 included: the map must not depend on which points the grid's resolution
 let the start try) are started (nearest first, as above) from a regular
@@ -401,11 +405,14 @@ def _continue(mechanism, sources, targets, held, entries):
     return current, ok
 
 
-def held_margins(mechanism, points, held):
+def held_margins(mechanism, points, held, constraint_rank=None):
     """``σ_r(DΦ_free·s) / σ₁(DΦ·s)`` at each point, r the numerical rank of DΦ·s there, shape=[n].
 
     Above :data:`REGULAR_RTOL`, the `held` tangent coordinates are independent coordinates of M there: the loops
-    can be solved for the others (the implicit-function theorem)."""
+    can be solved for the others (the implicit-function theorem). With `constraint_rank`, the rank of DΦ·s on M
+    (the survey's), r is at least it: at a C-space singularity (DΦ·s of a lower rank: M is no manifold there,
+    its branches may cross) no choice of held coordinates is regular, and the margin, at most
+    ``σ_r(DΦ·s) / σ₁(DΦ·s)``, is at the rounding level."""
     from manifold import rank_of_values, scaled_singular_values
     from mechanisms.kinematics import configuration_space
 
@@ -418,7 +425,7 @@ def held_margins(mechanism, points, held):
     restricted = scaled_singular_values(space, points, columns=free)
     margins = np.zeros(len(full))
     for index, values in enumerate(full):
-        rank = rank_of_values(values).rank
+        rank = max(rank_of_values(values).rank, constraint_rank or 0)
         if rank == 0:
             margins[index] = 1.0
         elif rank <= restricted.shape[1]:
@@ -447,7 +454,7 @@ def neighbour_directions(basis, axes=None):
     return projections[moving] / lengths[moving, None], axes[moving]
 
 
-def regular_start(mechanism, start, held):
+def regular_start(mechanism, start, held, constraint_rank=None):
     """The start itself when it is regular for the held coordinates, else a regular neighbour on M (module notes).
 
     Of the neighbours at the first step size at which one is regular, the best conditioned (largest margin)
@@ -466,6 +473,9 @@ def regular_start(mechanism, start, held):
         A configuration on M.
     held : sequence of int
         The held tangent coordinates (:func:`held_columns`).
+    constraint_rank : int, optional
+        The rank of DΦ·s on M (the survey's): a start where DΦ·s has a lower rank (a C-space singularity) is
+        singular too (:func:`held_margins`).
 
     Returns
     -------
@@ -479,7 +489,7 @@ def regular_start(mechanism, start, held):
     space = configuration_space(mechanism)
     ambient = space.ambient
     start = np.asarray(start, dtype=float)
-    margin = float(held_margins(mechanism, start, held)[0])
+    margin = float(held_margins(mechanism, start, held, constraint_rank)[0])
     if margin > REGULAR_RTOL:
         return StartingPoint(start, False, 0.0, margin)
     scales = ambient.tangent_scales
@@ -493,7 +503,7 @@ def regular_start(mechanism, start, held):
             guesses = ambient.retract(np.broadcast_to(start, (len(directions), start.size)), size * directions)
             corrected, residuals = _correct(mechanism, guesses, np.arange(ambient.dim), 4 * _CORRECTOR_ITERATIONS)
             moved = np.linalg.norm(ambient.inverse_retract(start, corrected) / scales, axis=-1)
-            margins = held_margins(mechanism, corrected, held)
+            margins = held_margins(mechanism, corrected, held, constraint_rank)
             good = ((residuals <= _TOLERANCE) & np.asarray(closes(mechanism, corrected, _TOLERANCE), dtype=bool)
                     & (moved <= 2 * size) & (margins > REGULAR_RTOL))
             for index in np.flatnonzero(good):
@@ -602,7 +612,7 @@ def _wrapped(neighbours, axes, shape):
     return np.concatenate([ends, neighbours, across], axis=1)
 
 
-def assemble_grid(mechanism, start, targets, shape, held, bar=None, with_start=False):
+def assemble_grid(mechanism, start, targets, shape, held, bar=None, with_start=False, constraint_rank=None):
     """Every grid point assembled by continuation over the grid from a configuration (see the module notes).
 
     Parameters
@@ -620,6 +630,10 @@ def assemble_grid(mechanism, start, targets, shape, held, bar=None, with_start=F
         Updated by the number of points reached.
     with_start : bool
         Also return where the continuation started.
+    constraint_rank : int, optional
+        The rank of DΦ·s on M (the survey's): a start at a C-space singularity is singular then, and the grid
+        is continued from a regular neighbour (:func:`regular_start`); by default only a start singular for the
+        held coordinates is.
 
     Returns
     -------
@@ -678,7 +692,7 @@ def assemble_grid(mechanism, start, targets, shape, held, bar=None, with_start=F
         seed = _seed(mechanism, start, targets, held, entries, distance,
                      np.flatnonzero(~reached & ~started & ~tried.any(axis=1)), started)
         if seed is None and starting is None:
-            starting = regular_start(mechanism, given, held)
+            starting = regular_start(mechanism, given, held, constraint_rank)
             if starting.moved:  # a singular start: the rest of the grid from its regular neighbour
                 start = starting.point
                 distance = np.linalg.norm(ambient.inverse_retract(start, targets)[:, held]
@@ -696,7 +710,7 @@ def assemble_grid(mechanism, start, targets, shape, held, bar=None, with_start=F
         candidates = candidates[~reached[candidates]]
     if with_start:
         if starting is None or not starting.moved:
-            margin = float(held_margins(mechanism, given, held)[0])
+            margin = float(held_margins(mechanism, given, held, constraint_rank)[0])
             starting = StartingPoint(given, margin <= REGULAR_RTOL, 0.0, margin)
         return points, reached, starting
     return points, reached

@@ -19,7 +19,8 @@ grid coordinate is held whole. A grid point that no continuation from a
 reached neighbour leads to is *unreachable* (outside the inputs' reach on
 this branch, or beyond a fold). From a starting configuration singular
 for the held coordinates (e.g. an actuator singularity of a grid over the
-inputs) continuation can reach nothing: the grid points it leaves are then
+inputs), or at a C-space singularity (DΦ of a lower rank than the survey's),
+continuation can reach nothing: the grid points it leaves are then
 started from a regular neighbour on M
 (:func:`classify.grid_continuation.regular_start`), said in the output
 (JSON ``"start": {"singular", "moved", "margin", "tolerance", "tied"}``, null
@@ -148,9 +149,10 @@ def _legend():
     return ", ".join(f"{character} {name.replace('_', '-')}" for name, character in PICTURE.items())
 
 
-def _configurations(arguments, mechanism, named, grid):
+def _configurations(arguments, mechanism, named, grid, constraint_rank):
     """The grid's configurations: (points [n, point_size], reachable [n], projection distances [n] or None,
-    StartingPoint or None)."""
+    StartingPoint or None); `constraint_rank` the survey's rank of DΦ·s on M (a start at a C-space singularity
+    is singular)."""
     import numpy as np
 
     from mechanisms import CLOSURE_TOLERANCE, configuration, validate_displacements
@@ -169,7 +171,8 @@ def _configurations(arguments, mechanism, named, grid):
     bar = progress_bar(grid.size, "assembling", unit="point")
     try:
         points, reachable, starting = assemble_grid(mechanism, starting.point, targets, grid.shape,
-                                                    held_columns(mechanism, grid), bar, with_start=True)
+                                                    held_columns(mechanism, grid), bar, with_start=True,
+                                                    constraint_rank=constraint_rank)
     finally:
         bar.close()
     return points, reachable, None, starting
@@ -254,9 +257,10 @@ def run(arguments, out):
     mechanism, named = source(arguments)
     warn_if_serial(mechanism)
     grid = parse_grid(arguments.grid, mechanism)
-    points, reachable, distance, starting = _configurations(arguments, mechanism, named, grid)
     model = model_of(mechanism, arguments.length_scale)
     survey = model_survey(arguments.survey, model)
+    points, reachable, distance, starting = _configurations(arguments, mechanism, named, grid,
+                                                            survey.constraint_rank)
     result = classify_many(model, points[reachable], survey=survey, progress=show_progress(),
                           workers=-1 if arguments.threads is None else arguments.threads)
     displacements = displacements_of(mechanism, result.points)

@@ -1,4 +1,5 @@
-"""Equally well conditioned neighbours of a singular start (:func:`classify.grid_continuation.regular_start`).
+"""The regular neighbour of a singular start (:func:`classify.grid_continuation.regular_start`): equally well
+conditioned neighbours, and a start at a C-space singularity (the last test).
 
 The slider-crank driven at its slider, at the dead centre (crank and
 coupler aligned: an actuator singularity, the start of ``closedchain map``
@@ -71,8 +72,8 @@ def test_rounding_of_the_margins_does_not_choose_between_mirror_images(dead_cent
     expected = regular_start(mechanism, start, held)
     original = grid_continuation.held_margins
 
-    def rounded(mechanism, points, held):
-        margins = original(mechanism, points, held)
+    def rounded(mechanism, points, held, constraint_rank=None):
+        margins = original(mechanism, points, held, constraint_rank)
         if np.ndim(points) == 2 and len(points) > 1:
             margins[len(margins) // 2:] *= 1.0 + 1e-12
         return margins
@@ -96,3 +97,28 @@ def test_a_regular_start_is_untied():
     mechanism = catalogue.entry("slider-crank").mechanism()
     found = regular_start(mechanism, configuration(mechanism, {}).point, tuple(mechanism.actuated_coordinates))
     assert not found.singular and found.tied == 1 and found.alternatives.shape[0] == 0
+
+
+def test_a_start_at_a_cspace_singularity_is_singular_and_left_for_a_regular_neighbour(capsys):
+    """Park & Kim (1999) Fig. 1a: the five-bar with all five joints collinear, a C-space singularity (DΦ of
+    rank 2, 3 on M). DΦ restricted to the free joints has rank 2 there too, so the start counted as regular for
+    the inputs: ``map`` said so, continued from it and reached 2 of 25 grid points. With the survey's rank of DΦ
+    the start is singular and the grid is continued from a regular neighbour."""
+    from classify import model_of, survey_of
+    from classify.grid_continuation import held_margins
+
+    mechanism = catalogue.entry("five-bar").mechanism("fig1a_collinear")
+    start, held = configuration(mechanism, {}).point, tuple(sorted(mechanism.actuated_coordinates))
+    rank = survey_of(model_of(mechanism)).constraint_rank
+    assert rank == 3 and regular_start(mechanism, start, held).singular is False  # DΦ's own rank: 2
+    found = regular_start(mechanism, start, held, rank)
+    assert found.singular and found.moved > 0 and found.margin > grid_continuation.REGULAR_RTOL
+    assert held_margins(mechanism, start, held, rank)[0] < 1e-12
+    np.testing.assert_allclose(held_margins(mechanism, found.point, held, rank),
+                               held_margins(mechanism, found.point, held), rtol=1e-12)  # a regular point of M
+    argv = ["map", "five-bar", "--configuration", "fig1a_collinear", "--grid", "A=-0.2:0.2:5", "B=-0.2:0.2:5",
+            "--format", "json"]
+    assert main(argv) == 0
+    document = json.loads(capsys.readouterr().out)
+    assert document["start"]["singular"] and document["start"]["moved"] > 0
+    assert document["summary"]["reachable"] > 2
