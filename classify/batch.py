@@ -25,13 +25,15 @@ eigenvalues of their Gram matrix where certified (:func:`_gram_values`); the
 kernel bases of loops that each own as many coordinates as they have rows
 (Gough–Stewart, 3-RRR) from small solves per loop (:class:`ArrowStructure`),
 where those blocks are well conditioned. A large mechanism whose DΦ the
-single call takes block by block (a pattern and k ≥
-:data:`manifold.implicit.BLOCK_THRESHOLD`: the note on sparsity of
-:mod:`manifold.implicit`) is taken block by block here too: the blocks of one
+single call takes block by block (:func:`manifold.handled_by_blocks`: a
+pattern and k ≥ :data:`manifold.implicit.BLOCK_THRESHOLD`, the note on
+sparsity of :mod:`manifold.implicit`) is taken block by block here too: the blocks of one
 shape of every configuration of a chunk in one batched SVD, whose values are
 DΦ's and whose vectors give the tangent bases as :func:`manifold.tangent_basis`
-does (:func:`_block_decomposition`), with no SVD of the c × k DΦ and no k × k
-orthogonal factor. The stack goes in chunks of about the same memory for
+does (:func:`manifold.blocks.decompose`), with no SVD of the c × k DΦ and no k × k
+orthogonal factor; actuators that are coordinate rows (a joint-graph
+mechanism's) make the a × m actuator block block diagonal as well, and its
+values are its blocks' (:func:`_block_singular_values`). The stack goes in chunks of about the same memory for
 every mechanism (:func:`default_chunk`), in threads with ``workers``.
 
 What is not array work runs only where it is needed, through
@@ -58,15 +60,15 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from manifold import DEFAULT_ATOL, DEFAULT_RTOL, check_rtol, implicit, tangent_extents
-from manifold.blocks import union_of_values
+from manifold import DEFAULT_ATOL, DEFAULT_RTOL, check_rtol, handled_by_blocks, implicit, tangent_extents
+from manifold.blocks import decompose, union_of_values
 from mechanisms import CLOSURE_TOLERANCE, ConfigurationError, Mechanism, closure_and_jacobian
 from mechanisms.kinematics import rotation_blocks
 from mechanisms.mechanism import dense_memory_estimate
 
 from .classification import CLOSURE_BAND, classify, closure_of, not_on_m
 from .metrics import JACOBI_ROWS, JACOBI_STACK, metric_root, moving_directions, proper_values, singular_values
-from .model import model_of
+from .model import cached, model_of
 from .progress import progress_bar
 from .report import KINDS
 from .survey import end_effector_reference, stacked as stacked_rows, survey_of, unit_actuator_rows
@@ -370,11 +372,12 @@ def _first_order(model, points, survey, rtol, offset, columns=None):
     written into `columns` (views of the whole stack's, :func:`_rows_of`) when given.
 
     The rank of DΦ·diag(s) and the tangent bases come from its blocks where the single call takes them so
-    (``manifold.implicit._blocked``: :func:`_block_decomposition`), else from the dense matrices."""
+    (:func:`manifold.implicit.handled_by_blocks`: :func:`manifold.blocks.decompose`), else from the dense
+    matrices."""
     jacobian = _closure_and_jacobian(model, points, offset)
     count = len(points)
     scales = model.manifold.ambient.tangent_scales
-    decomposition = _block_decomposition(model.manifold, jacobian) if implicit._blocked(model.manifold) else None
+    decomposition = decompose(model.manifold, jacobian=jacobian) if handled_by_blocks(model.manifold) else None
     if decomposition is None:
         constraint_values, constraint_tolerance = _constraint_values(jacobian, rtol)
     else:
@@ -411,7 +414,7 @@ def _first_order(model, points, survey, rtol, offset, columns=None):
                 continue
         error = basis_error(largest[group], constraint_margins[group, 0], amplification)
         full[group] |= _regular_columns(model, points[group], scales[:, None] * basis, int(rank), survey, rtol,
-                                        columns, group, error)
+                                        columns, group, error, blocks=decomposition is not None)
     columns["full"][:] = full | columns["singular"][:, KINDS.index("actuator")]
     return columns
 
@@ -449,7 +452,7 @@ def basis_error(largest, kept, amplification=1.0):
     difference measured. The block-arrow solves (:func:`_arrow_bases`) may
     err more, by up to the condition number of the loops' own blocks:
     `amplification` (shape=[b]) stands for κ(J) where it is larger. Block by
-    block (:func:`_block_decomposition`) both bases come from the blocks' SVDs,
+    block (:func:`manifold.blocks.decompose`) both bases come from the blocks' SVDs,
     backward stable block by block, and each block's ``σ₁/σ_r`` is at most
     κ(J). A configuration without loops has the exact basis I (κ = 1). To this the
     estimate adds :data:`BLOCK_ROUNDING` ε, the rounding of a block's own
@@ -520,30 +523,6 @@ def _gram_values(matrices):
     return values
 
 
-def _block_decomposition(manifold, jacobian):
-    """SVDs (full matrices) of the blocks of a chunk's DΦ·diag(s) (``manifold.pattern.blocks``), blocks of
-    one shape of every configuration in one batched call, as :func:`manifold.blocks.decompose` for one point.
-
-    Parameters
-    ----------
-    manifold : ImplicitManifold
-        Handled block by block (``manifold.implicit._blocked``).
-    jacobian : ndarray, shape=[b, c, k]
-        DΦ·diag(s) of the chunk (zero off the pattern).
-
-    Returns
-    -------
-    list of tuple
-        ``(block group, singular values [b, blocks, min(r, q)], Vᴴ [b, blocks, q, q])`` per block group.
-    """
-    decomposition = []
-    for group in manifold.pattern.blocks:
-        blocks = jacobian[:, group.rows[:, :, None], group.columns[:, None, :]]  # [b, blocks, r, q]
-        _, values, right = np.linalg.svd(blocks, full_matrices=True)
-        decomposition.append((group, values, right))
-    return decomposition
-
-
 def _block_constraint_values(decomposition, shape, rtol):
     """Singular values of DΦ·diag(s) from its blocks' and the cut of its rank, shape=[b, min(c, k)] and [b],
     as :func:`manifold.blocks.block_rank` for one point: the union of the blocks' values, padded with the
@@ -552,7 +531,7 @@ def _block_constraint_values(decomposition, shape, rtol):
     Parameters
     ----------
     decomposition : list of tuple
-        From :func:`_block_decomposition`.
+        From :func:`manifold.blocks.decompose` of the chunk's DΦ·diag(s).
     shape : tuple of int
         ``(b, c, k)``: the chunk's DΦ.
     rtol : float
@@ -572,7 +551,7 @@ def _block_kernel_bases(decomposition, selection, tolerance, manifold, rank):
     Parameters
     ----------
     decomposition : list of tuple
-        From :func:`_block_decomposition`.
+        From :func:`manifold.blocks.decompose` of the chunk's DΦ·diag(s).
     selection : ndarray of int, shape=[g]
         Configurations of the chunk, all with the same rank of DΦ·diag(s).
     tolerance : ndarray, shape=[g]
@@ -763,17 +742,28 @@ def _empty_columns(model, count):
     }
 
 
-def _regular_columns(model, points, basis, constraint_rank, survey, rtol, columns, rows, error):
+def _regular_columns(model, points, basis, constraint_rank, survey, rtol, columns, rows, error, blocks=False):
     """Fill `columns` at `rows`: configurations where DΦ has rank `constraint_rank` ≥ the survey's, with
     tangent bases `basis` accurate to `error` (:func:`basis_error`, shape=[g]). Returns where a decision or
-    a value is not sure (:func:`_unsure`), shape=[g]: those are classified one at a time."""
+    a value is not sure (:func:`_unsure`), shape=[g]: those are classified one at a time.
+
+    Actuators that are coordinate rows (:func:`_coordinate_rows`) are applied to the bases by picking rows.
+    Where the bases come from DΦ's blocks (`blocks`: each column supported on one block or free column), the
+    actuator block's singular values are then its own blocks' (:func:`_block_singular_values`)."""
     k = model.manifold.ambient.dim
     dof = k - constraint_rank
     count = len(points)
     unit_actuators, actuator_scale = unit_actuator_rows(model)
     actuator_tolerance = max(rtol * actuator_scale, DEFAULT_ATOL)
-    actuator_block = unit_actuators @ basis  # [g, a, m]
-    actuator_ranks, actuator_margins = _decisions(singular_values(actuator_block), actuator_tolerance)
+    coordinates = _coordinate_rows(model, "unit_actuator_rows", unit_actuators)
+    actuator_block = _rows_on(unit_actuators, coordinates, basis)  # [g, a, m]
+    if blocks and coordinates is not None:
+        components = _column_components(model.manifold.pattern)
+        actuator_values = _block_singular_values(actuator_block, components[coordinates[0]],
+                                                 components[np.argmax(basis != 0.0, axis=-2)])
+    else:
+        actuator_values = singular_values(actuator_block)
+    actuator_ranks, actuator_margins = _decisions(actuator_values, actuator_tolerance)
     unsure = _unsure(actuator_margins, actuator_tolerance, actuator_scale * error)
     n = model.end_effector_dimension
     if n:
@@ -842,7 +832,8 @@ def _regular_columns(model, points, basis, constraint_rank, survey, rtol, column
         motions = basis[definite]
         if kept < dof:
             motions = motions @ moving_directions(stacked(definite), kept)
-        values = proper_values(model.actuators @ motions, end_effector_jacobian[definite] @ motions,
+        actuator_motions = _rows_on(model.actuators, _coordinate_rows(model, "actuators", model.actuators), motions)
+        values = proper_values(actuator_motions, end_effector_jacobian[definite] @ motions,
                                model.end_effector_metric, count)
         vanishing = end_effector_ranks[definite] < count
         smallest = values[:, -1]
@@ -851,6 +842,95 @@ def _regular_columns(model, points, basis, constraint_rank, survey, rtol, column
         columns["eigenvalues"][rows[definite], :values.shape[1]] = values
         columns["condition_number"][rows[definite]] = condition
     return unsure
+
+
+def _coordinate_rows(model, name, matrix):
+    """``(columns [a], factors [a])`` where every row of `matrix` (shape=[a, k], a constant of the model named
+    `name`) has exactly one nonzero entry, ``factors[i]`` at ``columns[i]`` (an actuated joint's rate: the
+    actuators of a joint-graph mechanism); else None. Kept in ``model.cache``."""
+    def compute():
+        nonzero = matrix != 0.0
+        if not np.all(np.count_nonzero(nonzero, axis=1) == 1):
+            return ()
+        columns = np.argmax(nonzero, axis=1)
+        return columns, matrix[np.arange(len(matrix)), columns]
+
+    return cached(model, ("coordinate_rows", name), compute) or None
+
+
+def _rows_on(matrix, coordinates, bases):
+    """``matrix @ bases`` (shape=[a, k] and [g, k, m]), shape=[g, a, m]: rows of the bases times the factors
+    where the rows are coordinate rows (`coordinates` from :func:`_coordinate_rows`, else None), the same
+    numbers (one nonzero term per entry) without the a·k·m products."""
+    if coordinates is None:
+        return matrix @ bases
+    columns, factors = coordinates
+    return factors[:, None] * bases[:, columns, :]
+
+
+def _column_components(pattern):
+    """The component of DΦ's pattern each column belongs to, shape=[k]: its block's number (blocks numbered
+    group by group, as ``pattern.blocks`` lists them), or a number of its own for a free column."""
+    labels = np.empty(pattern.shape[1], dtype=np.intp)
+    start = 0
+    for group in pattern.blocks:
+        labels[group.columns] = start + np.arange(len(group.columns))[:, None]
+        start += len(group.columns)
+    labels[pattern.free_columns] = start + np.arange(len(pattern.free_columns))
+    return labels
+
+
+def _block_singular_values(matrices, row_labels, column_labels):
+    """Singular values of a stack of matrices that are block diagonal after permuting rows and columns,
+    descending, with the zeros up to ``min(a, m)`` a dense SVD gives, shape=[g, min(a, m)].
+
+    Entry ``(i, j)`` of matrix ``l`` is zero unless ``row_labels[i] == column_labels[l, j]``: so it is for
+    ``G = Dπ·T`` with coordinate rows Dπ and a tangent basis T whose every column lies on one component of
+    DΦ's pattern (a block or a free column; :func:`manifold.blocks.decompose`), the labels being the
+    components of the actuated joints and of the columns' supports. The singular values of the whole are
+    the union of the blocks' (rows and columns of one label), and zeros (as for DΦ itself:
+    :func:`manifold.blocks.union_of_values`); the blocks of one shape of every matrix go in one call of
+    :func:`classify.metrics.singular_values`.
+
+    Parameters
+    ----------
+    matrices : ndarray, shape=[g, a, m]
+    row_labels : ndarray of int, shape=[a]
+    column_labels : ndarray of int, shape=[g, m]
+    """
+    count, rows, columns = matrices.shape
+    size = min(rows, columns)
+    values = np.zeros((count, size))
+    if size == 0:
+        return values
+    label_count = int(max(row_labels.max(), column_labels.max())) + 1
+    row_order = np.argsort(row_labels, kind="stable")
+    row_counts = np.bincount(row_labels, minlength=label_count)
+    row_starts = np.cumsum(row_counts) - row_counts
+    column_order = np.argsort(column_labels, axis=1, kind="stable")                   # [g, m]
+    sorted_labels = np.take_along_axis(column_labels, column_order, axis=1)
+    keys = (np.arange(count)[:, None] * label_count + sorted_labels).ravel()           # ascending
+    pairs, pair_starts, column_counts = np.unique(keys, return_index=True, return_counts=True)
+    matrix_of, label_of = np.divmod(pairs, label_count)
+    pair_starts -= matrix_of * columns          # where each pair's columns start in its matrix's sorted order
+    shapes = np.stack([row_counts[label_of], column_counts], axis=1)                  # of each pair's block
+    found_matrix, found_values = [], []
+    for row_count, column_count in np.unique(shapes[shapes[:, 0] > 0], axis=0).tolist():
+        chosen = np.flatnonzero(np.all(shapes == (row_count, column_count), axis=1))
+        row_index = row_order[row_starts[label_of[chosen]][:, None] + np.arange(row_count)]       # [t, p]
+        column_index = column_order[matrix_of[chosen][:, None],
+                                    pair_starts[chosen][:, None] + np.arange(column_count)]      # [t, q]
+        blocks = matrices[matrix_of[chosen][:, None, None], row_index[:, :, None], column_index[:, None, :]]
+        found_values.append(singular_values(blocks).ravel())
+        found_matrix.append(np.repeat(matrix_of[chosen], min(row_count, column_count)))
+    if found_values:
+        matrix_of, found = np.concatenate(found_matrix), np.concatenate(found_values)
+        order = np.argsort(matrix_of, kind="stable")
+        matrix_of, found = matrix_of[order], found[order]
+        counts = np.bincount(matrix_of, minlength=count)
+        place = np.arange(len(matrix_of)) - (np.cumsum(counts) - counts)[matrix_of]
+        values[matrix_of, place] = found
+    return -np.sort(-values, axis=1)
 
 
 def _largest(matrices):

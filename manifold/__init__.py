@@ -16,7 +16,7 @@ _SOURCES = {
     **dict.fromkeys(("JacobianPattern",), ".blocks"),
     **dict.fromkeys(("CurveCertificate", "continue_curve"), ".continuation"),
     **dict.fromkeys(("ManifoldError", "ProjectionError"), ".errors"),
-    **dict.fromkeys(("ImplicitManifold", "constraint_curvature", "hessian_form", "jacobian_rank",
+    **dict.fromkeys(("ImplicitManifold", "constraint_curvature", "handled_by_blocks", "hessian_form", "jacobian_rank",
                      "minimum_norm_steps", "normal_basis", "project", "project_many", "residual", "scaled_jacobian",
                      "scaled_singular_values", "sparse_tangent_basis", "tangent_basis"), ".implicit"),
     **dict.fromkeys(("DEFAULT_ATOL", "DEFAULT_RTOL", "RankDecision", "numerical_rank", "rank_of_values",

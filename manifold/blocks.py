@@ -174,24 +174,58 @@ def _local_positions(labels):
 
 # --------------------------------------------------------------------------- decompositions and ranks
 
-def scaled_blocks(manifold, point):
-    """The blocks of DΦ(point)·diag(s): one array, shape=[b, r, q], per block group of ``manifold.pattern``."""
+def _stacked_blocks(pattern, entries, scales):
+    """The blocks of a stack of ``DΦ·diag(s)`` given by their entries [..., nnz] at `pattern`: ``(group, blocks
+    [..., b, r, q])`` per block group."""
+    padded = np.concatenate([entries, np.zeros(entries.shape[:-1] + (1,))], axis=-1)
+    return [(group, padded[..., group.positions] * scales[group.columns][:, None, :]) for group in pattern.blocks]
+
+
+def scaled_blocks(manifold, point=None, *, jacobian=None):
+    """The blocks of DΦ(point)·diag(s), or of the given `jacobian`, one array per block group of
+    ``manifold.pattern``, shape=[..., b, r, q] (``DΦ·diag(s)[..., rows[i][:, None], columns[i]]`` for block i).
+
+    Parameters
+    ----------
+    manifold : ImplicitManifold
+        With a pattern and ``constraint_jacobian_entries``.
+    point : array_like, shape=[..., point_size], optional
+        Points (or one point) where DΦ is taken, from its entries at the pattern.
+    jacobian : array_like, shape=[..., c, k], optional
+        Instead of `point`: DΦ·diag(s) itself, zero off the pattern (e.g. a stack already evaluated densely).
+
+    Returns
+    -------
+    list of ndarray
+        Shape=[..., b, r, q] per block group.
+    """
+    if (point is None) == (jacobian is None):
+        raise ValueError("Expected exactly one of point and jacobian")
+    if jacobian is not None:
+        jacobian = np.asarray(jacobian, dtype=float)
+        return [jacobian[..., group.rows[:, :, None], group.columns[:, None, :]] for group in manifold.pattern.blocks]
     entries = np.asarray(manifold.constraint_jacobian_entries(point), dtype=float)
-    padded = np.concatenate([entries, np.zeros(1)])
-    scales = manifold.ambient.tangent_scales
-    return [padded[group.positions] * scales[group.columns][:, None, :] for group in manifold.pattern.blocks]
+    return [blocks for _, blocks in _stacked_blocks(manifold.pattern, entries, manifold.ambient.tangent_scales)]
 
 
-def decompose(manifold, point):
-    """SVD (full matrices) of every block of DΦ(point)·diag(s), blocks of one shape in one batched call.
+def decompose(manifold, point=None, *, jacobian=None):
+    """SVD (full matrices) of every block of DΦ(point)·diag(s) (or of `jacobian`, :func:`scaled_blocks`), the
+    blocks of one shape of every matrix of the stack in one batched call.
+
+    Parameters
+    ----------
+    manifold : ImplicitManifold
+    point : array_like, shape=[..., point_size], optional
+    jacobian : array_like, shape=[..., c, k], optional
+        DΦ·diag(s) itself instead of `point`.
 
     Returns
     -------
     list of tuple
-        ``(block group, singular values [b, min(r, q)], Vᴴ [b, q, q])``.
+        ``(block group, singular values [..., b, min(r, q)], Vᴴ [..., b, q, q])`` per block group.
     """
     decomposed = []
-    for group, blocks in zip(manifold.pattern.blocks, scaled_blocks(manifold, point)):
+    for group, blocks in zip(manifold.pattern.blocks, scaled_blocks(manifold, point, jacobian=jacobian)):
         _, values, right = np.linalg.svd(blocks, full_matrices=True)
         decomposed.append((group, values, right))
     return decomposed
@@ -367,13 +401,6 @@ def cap_block_steps(pattern, step, max_step, scales):
         norms = np.linalg.norm(step[group.columns] / scales[group.columns], axis=-1)  # [b]
         factors = np.minimum(1.0, max_step / np.maximum(norms, np.finfo(float).tiny))
         step[group.columns] *= factors[:, None]
-
-
-def _stacked_blocks(pattern, entries, scales):
-    """The blocks of a stack of ``DΦ·diag(s)`` given by their entries [n, nnz] at `pattern`: ``(group, blocks
-    [n, b, r, q])`` per block group."""
-    padded = np.concatenate([entries, np.zeros((len(entries), 1))], axis=1)
-    return [(group, padded[:, group.positions] * scales[group.columns][:, None, :]) for group in pattern.blocks]
 
 
 def stacked_singular_values(pattern, entries, scales):

@@ -16,9 +16,9 @@ the same factor, so no decision depends on it.
 Sparsity. A manifold may declare where DΦ can be nonzero
 (:class:`JacobianPattern`, with ``constraint_jacobian_entries`` giving the
 entries there): after permuting rows and columns DΦ is block diagonal
-(:mod:`manifold.blocks`). From :data:`BLOCK_THRESHOLD` coordinates on,
-:func:`project`, :func:`jacobian_rank`, :func:`tangent_basis`,
-:func:`normal_basis` and :func:`constraint_curvature` work block by block
+(:mod:`manifold.blocks`). From :data:`BLOCK_THRESHOLD` coordinates on
+(:func:`handled_by_blocks`), :func:`project`, :func:`jacobian_rank`,
+:func:`tangent_basis`, :func:`normal_basis` and :func:`constraint_curvature` work block by block
 (blocks of one shape in one batched SVD): the same decisions (every cut is
 relative to σ₁ of the whole DΦ, as for the dense matrix) at a cost that
 grows with the blocks, not with k². Below the threshold everything is dense,
@@ -49,6 +49,7 @@ __all__ = [
     "CHUNK_ENTRIES",
     "JacobianPattern",
     "ImplicitManifold",
+    "handled_by_blocks",
     "residual",
     "scaled_jacobian",
     "jacobian_rank",
@@ -125,8 +126,24 @@ class ImplicitManifold:
     closing: Optional["ImplicitManifold"] = None
 
 
-def _blocked(manifold):
-    """Whether `manifold` is handled block by block (a pattern, its entries, and k ≥ :data:`BLOCK_THRESHOLD`)."""
+def handled_by_blocks(manifold):
+    """Whether the functions here take DΦ of `manifold` block by block (see the module's note on sparsity).
+
+    So they do when the manifold declares where DΦ can be nonzero (a
+    :class:`JacobianPattern`) with ``constraint_jacobian_entries`` giving
+    the entries there, and has at least :data:`BLOCK_THRESHOLD` coordinates
+    k (read at call time); else DΦ is taken densely, as for any manifold
+    without a pattern. Callers that work on stacks of points ask it too, to
+    take the path the single calls take.
+
+    Parameters
+    ----------
+    manifold : ImplicitManifold
+
+    Returns
+    -------
+    bool
+    """
     return (manifold.pattern is not None and manifold.constraint_jacobian_entries is not None
             and manifold.pattern.shape[1] >= BLOCK_THRESHOLD)
 
@@ -164,7 +181,7 @@ def jacobian_rank(manifold, point, rtol=DEFAULT_RTOL, atol=DEFAULT_ATOL):
     -------
     decision : RankDecision
     """
-    if not _blocked(manifold):
+    if not handled_by_blocks(manifold):
         return numerical_rank(scaled_jacobian(manifold, point), rtol=rtol, atol=atol)
     point = _one_point(manifold, point, "jacobian_rank")  # NaN would end in LAPACK's 'SVD did not converge'
     shape = manifold.pattern.shape
@@ -267,7 +284,7 @@ def project(manifold, point, tolerance=1e-12, max_iterations=60, max_step=None, 
     point = _one_point(manifold, point, "project")
     ambient = manifold.ambient
     scales = ambient.tangent_scales
-    blocked = _blocked(manifold)
+    blocked = handled_by_blocks(manifold)
     value = manifold.constraint(point)
     history = []
     steps = 0
@@ -432,7 +449,7 @@ def minimum_norm_steps(manifold, points, values, columns=None, rcond=STEP_RCOND)
     columns = np.arange(ambient.dim) if columns is None else np.asarray(columns, dtype=np.intp)
     scales = ambient.tangent_scales[columns]
     points, values = np.asarray(points, dtype=float), np.asarray(values, dtype=float)
-    if _blocked(manifold):
+    if handled_by_blocks(manifold):
         pattern, kept = manifold.pattern.restricted(columns)
         entries = np.asarray(manifold.constraint_jacobian_entries(points), dtype=float)[..., kept]
         return blocks_module.minimum_norm_solutions(pattern, entries, scales, values, rcond, SPARSE_BLOCK_COLUMNS)
@@ -456,7 +473,7 @@ def scaled_singular_values(manifold, points, columns=None):
     columns = np.arange(ambient.dim) if columns is None else np.asarray(columns, dtype=np.intp)
     scales = ambient.tangent_scales[columns]
     points = np.asarray(points, dtype=float)
-    if _blocked(manifold):
+    if handled_by_blocks(manifold):
         pattern, kept = manifold.pattern.restricted(columns)
         entries = np.asarray(manifold.constraint_jacobian_entries(points), dtype=float)[..., kept]
         return blocks_module.stacked_singular_values(pattern, entries, scales)
@@ -499,7 +516,7 @@ def tangent_basis(manifold, point, rtol=DEFAULT_RTOL, atol=DEFAULT_ATOL):
     """
     point = _one_point(manifold, point, "tangent_basis")
     scales = manifold.ambient.tangent_scales
-    if _blocked(manifold):
+    if handled_by_blocks(manifold):
         decomposition, decision = _blocked_decision(manifold, point, rtol, atol)
         pieces = block_vectors(decomposition, decision.tolerance, kernel=True)
         basis = blocks_module.dense_basis(pieces, manifold.ambient.dim, manifold.pattern.free_columns)
@@ -528,7 +545,7 @@ def sparse_tangent_basis(manifold, point, rtol=DEFAULT_RTOL, atol=DEFAULT_ATOL):
     basis : scipy.sparse.csc_array, shape=[k, k - rank]
     decision : RankDecision
     """
-    if not _blocked(manifold):
+    if not handled_by_blocks(manifold):
         from scipy.sparse import coo_array
 
         basis, decision = tangent_basis(manifold, point, rtol=rtol, atol=atol)
@@ -542,7 +559,7 @@ def sparse_tangent_basis(manifold, point, rtol=DEFAULT_RTOL, atol=DEFAULT_ATOL):
 def normal_basis(manifold, point, rtol=DEFAULT_RTOL, atol=DEFAULT_ATOL):
     """Orthonormal basis of the row space of DΦ(point)·diag(s) (the normal space in dimensionless
     coordinates u = v / s), shape=[k, rank]."""
-    if _blocked(manifold):
+    if handled_by_blocks(manifold):
         decomposition, decision = _blocked_decision(manifold, point, rtol, atol)
         pieces = block_vectors(decomposition, decision.tolerance, kernel=False)
         return blocks_module.dense_basis(pieces, manifold.ambient.dim)
@@ -586,7 +603,7 @@ def constraint_curvature(manifold, point, basis, rtol=DEFAULT_RTOL, right=None):
     basis = np.asarray(basis, dtype=float)
     other = basis if right is None else np.asarray(right, dtype=float)
     scales = manifold.ambient.tangent_scales
-    if _blocked(manifold):
+    if handled_by_blocks(manifold):
         inverse = blocks_module.pseudo_inverse(manifold, point, rtol)
         count, size = basis.shape[1], other.shape[1]
         acceleration = np.empty((manifold.ambient.dim, count, size))

@@ -14,7 +14,7 @@ import numpy as np
 
 from .errors import ProjectionError
 from . import implicit as implicit_module
-from .implicit import jacobian_rank, project, project_many
+from .implicit import handled_by_blocks, jacobian_rank, project, project_many
 from .rank import DEFAULT_ATOL, DEFAULT_RTOL, numerical_rank
 
 __all__ = ["LocalRank", "local_rank", "sample_manifold", "largest_rank", "TangentExtent", "tangent_extent",
@@ -192,7 +192,7 @@ def _secant_decompositions(manifold, points, bases, step):
     starts = np.repeat(points, width, axis=0)                                       # [n·m, point_size]
     directions = np.swapaxes(bases, -1, -2).reshape(count * width, k)               # [n·m, k]
     predicted = ambient.retract(starts, step * directions)
-    if implicit_module._blocked(manifold):
+    if handled_by_blocks(manifold):
         moved = np.array([_projected_or_nan(manifold, guess, step) for guess in predicted])
     else:
         rows = max(1, np.shape(manifold.constraint(points[:1]))[-1])

@@ -18,7 +18,8 @@ from classify import KINDS, classify, model_of
 from classify import batch as batch_module
 from classify.batch import classify_many
 from classify.survey import survey_of
-from manifold import implicit, sample_manifold, tangent_basis
+from manifold import handled_by_blocks, sample_manifold, tangent_basis
+from manifold.blocks import decompose
 from mechanisms import from_displacements
 
 
@@ -86,7 +87,7 @@ def test_a_large_ladder_in_a_batch_equals_single_calls(loops, tail):
     loop nearly flat (κ of its block ≈ 1e3) and a loop flat (a C-space singularity, left to classify)."""
     mechanism = shared_mechanism(ladder(loops, tail))
     model = model_of(mechanism)
-    assert implicit._blocked(model.manifold) and batch_module._arrow_structure(model) is None
+    assert handled_by_blocks(model.manifold) and batch_module._arrow_structure(model) is None
     points = _configurations(mechanism, model, seed=loops, count=6)
     result = classify_many(model, points, chunk=4)
     reports = [classify(model, point) for point in points]
@@ -105,7 +106,7 @@ def test_the_kernel_bases_are_the_single_calls_block_by_block():
     points = np.stack([from_displacements(mechanism, _flattened(1)), from_displacements(mechanism, _flattened(2)),
                        from_displacements(mechanism, {**_loop_turned(4, 0.3), "T1": 0.2})])
     jacobian = manifold.constraint_jacobian(points) * manifold.ambient.tangent_scales
-    decomposition = batch_module._block_decomposition(manifold, jacobian)
+    decomposition = decompose(manifold, jacobian=jacobian)
     values, tolerance = batch_module._block_constraint_values(decomposition, jacobian.shape, 1e-6)
     expected = [tangent_basis(manifold, point) for point in points]
     for index, (basis, decision) in enumerate(expected):
@@ -138,3 +139,79 @@ def test_the_batch_decomposes_no_matrix_as_large_as_dphi(monkeypatch):
     rows, columns = model.constraint_rows, model.manifold.ambient.dim
     assert calls and max(max(shape[-2:]) for shape in calls) < rows < columns, sorted(set(calls))
     assert (len(points), 25, 3, 4) in calls  # the loops' blocks of every configuration, in one call
+
+
+def test_a_stack_decomposes_block_by_block_as_its_configurations_one_by_one():
+    """manifold.blocks.decompose of a stack of configurations [2, 3, point_size] (DΦ from its entries) and of
+    the stack's dense DΦ·diag(s) (as classify_many has it): each configuration's blocks, values and vectors,
+    are the single configuration's, to the bit (a flat loop and a nearly flat one among them)."""
+    mechanism = shared_mechanism(ladder(17, 2))
+    model = model_of(mechanism)
+    manifold = model.manifold
+    points = _configurations(mechanism, model, seed=7, count=4)[-6:].reshape(2, 3, -1)
+    jacobian = manifold.constraint_jacobian(points) * manifold.ambient.tangent_scales
+    from_entries, from_jacobian = decompose(manifold, points), decompose(manifold, jacobian=jacobian)
+    assert [values.shape[:2] for _, values, _ in from_entries] == [(2, 3)] * len(manifold.pattern.blocks)
+    for index in np.ndindex(2, 3):
+        single = decompose(manifold, points[index])
+        for stacked in (from_entries, from_jacobian):
+            for (group, values, right), (stacked_group, stacked_values, stacked_right) in zip(single, stacked):
+                assert stacked_group is group
+                np.testing.assert_array_equal(stacked_values[index], values)
+                np.testing.assert_array_equal(stacked_right[index], right)
+
+
+def test_block_singular_values_are_the_dense_ones():
+    """Stacks of matrices block diagonal after permuting rows and columns (labels in no order; blocks of several
+    shapes, wider and taller; labels with rows and no column, columns and no row; a block 1e-9 of the others):
+    the union of the blocks' values with the dense SVD's zeros, to 1e-12 of σ₁."""
+    rng = np.random.default_rng(40)
+    for trial in range(60):
+        count, rows, columns, labels = 3, int(rng.integers(1, 9)), int(rng.integers(1, 9)), int(rng.integers(1, 5))
+        row_labels = rng.integers(0, labels, rows)
+        column_labels = rng.integers(0, labels + 1, (count, columns))
+        matrices = rng.standard_normal((count, rows, columns)) * (row_labels[:, None] == column_labels[:, None, :])
+        matrices[:, row_labels == row_labels[0]] *= 1e-9 if trial % 2 else 1.0
+        values = batch_module._block_singular_values(matrices, row_labels, column_labels)
+        dense = np.linalg.svd(matrices, compute_uv=False)
+        assert values.shape == dense.shape == (count, min(rows, columns))
+        assert np.all(np.abs(values - dense) <= 1e-12 * dense[:, :1]), trial
+
+
+def test_the_actuator_rows_on_the_tangent_bases_are_decomposed_block_by_block(monkeypatch):
+    """On a ladder the actuators are coordinate rows: picked from the bases they are the product Dπ·T to the bit,
+    and G = Dπ·T is block diagonal (one 1 × 1 block per loop, one per actuated joint of the tail), whose values
+    are the dense SVD's to 1e-12 of σ₁; classify_many takes no SVD of G (only of DΦ's blocks, 3 × 4, and of
+    the end-effector's 2 rows) and equals the single calls."""
+    mechanism = shared_mechanism(ladder(25, 3))
+    model = model_of(mechanism)
+    manifold = model.manifold
+    points = _configurations(mechanism, model, seed=5, count=4)[:-1]  # regular
+    jacobian = manifold.constraint_jacobian(points) * manifold.ambient.tangent_scales
+    decomposition = decompose(manifold, jacobian=jacobian)
+    _, tolerance = batch_module._block_constraint_values(decomposition, jacobian.shape, 1e-6)
+    rank = model.constraint_rows
+    bases = manifold.ambient.tangent_scales[:, None] * batch_module._block_kernel_bases(
+        decomposition, np.arange(len(points)), tolerance, manifold, rank)
+    unit_actuators, _ = batch_module.unit_actuator_rows(model)
+    for matrix, name in ((unit_actuators, "unit_actuator_rows"), (model.actuators, "actuators")):
+        coordinates = batch_module._coordinate_rows(model, name, matrix)
+        assert coordinates is not None
+        np.testing.assert_array_equal(batch_module._rows_on(matrix, coordinates, bases), matrix @ bases)
+    columns, _ = batch_module._coordinate_rows(model, "unit_actuator_rows", unit_actuators)
+    components = batch_module._column_components(manifold.pattern)
+    block = unit_actuators @ bases
+    values = batch_module._block_singular_values(block, components[columns],
+                                                 components[np.argmax(bases != 0.0, axis=-2)])
+    dense = np.linalg.svd(block, compute_uv=False)
+    assert np.all(np.abs(values - dense) <= 1e-12 * dense[:, :1])
+    survey_of(model)  # the survey's own decompositions are dense
+    calls = []
+    original = np.linalg.svd
+    monkeypatch.setattr(np.linalg, "svd", lambda matrix, *arguments, **options:
+                        calls.append(np.shape(matrix)) or original(matrix, *arguments, **options))
+    result = classify_many(model, points)
+    monkeypatch.undo()
+    assert calls and max(min(shape[-2:]) for shape in calls) <= 3, sorted(set(calls))
+    for index, point in enumerate(points):
+        _assert_equal(result, index, classify(model, point))

@@ -67,6 +67,24 @@ def test_blocks_rank_kernel_and_row_space_equal_the_dense_ones(singular):
     np.testing.assert_array_equal(sparse.toarray(), kernel * scales[:, None])
 
 
+def test_a_stack_of_points_or_of_jacobians_decomposes_as_each_point():
+    """decompose of points [2, 3, 9] or of dense DΦ·diag(s) [2, 8, 9] (exactly one of the two): each item's
+    blocks, values and vectors, are the single point's, to the bit."""
+    rng = np.random.default_rng(35)
+    manifold, dense = linear_manifold(rng, singular=True)
+    single = decompose(manifold, np.zeros(9))
+    for stacked, shape in ((decompose(manifold, rng.standard_normal((2, 3, 9))), (2, 3)),
+                           (decompose(manifold, jacobian=np.stack([dense, dense])), (2,))):
+        for (group, values, right), (stacked_group, stacked_values, stacked_right) in zip(single, stacked):
+            assert stacked_group is group and stacked_values.shape == shape + values.shape
+            for index in np.ndindex(shape):
+                np.testing.assert_array_equal(stacked_values[index], values)
+                np.testing.assert_array_equal(stacked_right[index], right)
+    for arguments in ({}, {"point": np.zeros(9), "jacobian": dense}):
+        with pytest.raises(ValueError, match="exactly one"):
+            decompose(manifold, **arguments)
+
+
 @pytest.mark.parametrize("sparse_columns", [None, 0])
 @pytest.mark.parametrize("singular", [False, True])
 def test_block_pseudo_inverse_solves_as_the_dense_one(singular, sparse_columns):
