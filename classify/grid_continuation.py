@@ -41,11 +41,7 @@ held coordinates — DΦ restricted to the free ones, ``DΦ_free·s``, has a
 lower rank than DΦ·s, as at an actuator singularity when the grid is over
 the actuated coordinates (Chablat, Wenger & Angeles 1998 eq. 9: the
 five-bar's distal links aligned) — the first continuation step has no
-unique predictor and can reach nothing. So it is at a C-space singularity,
-where DΦ·s itself has a lower rank than on M (branches of M may cross:
-Park & Kim 1999 Fig. 1, the five-bar's joints collinear), when the caller
-gives that rank (``constraint_rank``, the survey's: ``closedchain map``
-does). When no grid point left is reached
+unique predictor and can reach nothing. When no grid point left is reached
 from the start, the remaining ones (those tried from the start and missed
 included: the map must not depend on which points the grid's resolution
 let the start try) are started (nearest first, as above) from a regular
@@ -58,6 +54,14 @@ well conditioned ones, by a convention of the coordinates, the others
 reported: :func:`regular_start`). A small
 step along M stays on the start's connected part of M; where the start is
 a fold between two assembly modes, the neighbour is in one of them.
+
+**A start at a C-space singularity**, where DΦ·s itself has a lower rank
+than on M (branches of M may cross: Park & Kim 1999 Fig. 1, the five-bar's
+joints collinear), when the caller gives that rank (``constraint_rank``,
+the survey's: ``closedchain map`` and the loci do): the whole grid is
+started from the start's regular neighbour, none of it from the start,
+whose own continuation could take another branch through it than the
+neighbour's.
 
 **Other assembly branches** (:func:`assemble_branches`). The grid follows
 one branch. The loops are solved at a few grid points (probes) from random
@@ -82,7 +86,7 @@ import numpy as np
 
 __all__ = ["Grid", "grid_targets", "held_columns", "held_entries", "assemble_grid", "grid_neighbours",
            "regular_start", "neighbour_directions", "held_margins", "StartingPoint", "REGULAR_RTOL", "NEIGHBOUR_STEPS",
-           "TIE_RTOL", "assemble_branches", "BRANCH_SEPARATION"]
+           "TIE_RTOL", "SAME_POINT", "assemble_branches", "BRANCH_SEPARATION"]
 
 #: ‖Φ‖ of an assembled grid point (the default of :func:`mechanisms.assemble`)
 _TOLERANCE = 1e-10
@@ -116,6 +120,9 @@ NEIGHBOUR_CHUNK = 256
 #: mirror-image neighbours' margins differ by the rounding of their separate corrections (1e-14), which must not
 #: choose between them
 TIE_RTOL = 1e-6
+#: dimensionless distance within which :func:`regular_start`'s corrected neighbours are one configuration (the
+#: corrector's tolerance, far below :data:`BRANCH_SEPARATION`)
+SAME_POINT = 1e-8
 
 
 @dataclass(frozen=True)
@@ -127,16 +134,21 @@ class StartingPoint:
     point : ndarray, shape=[point_size]
         The configuration the continuation starts from.
     singular : bool
-        Whether the given start was singular for the held coordinates.
+        Whether the given start was singular: for the held coordinates, or at a C-space singularity (`cspace`).
     moved : float
-        Dimensionless distance from the given start to `point` (0 when regular).
+        Dimensionless distance from the given start to `point` (0 when the continuation started at the given
+        start).
     margin : float
-        At `point`: ``σ_r(DΦ_free·s) / σ₁(DΦ·s)`` (r the rank of DΦ·s there), against :data:`REGULAR_RTOL`.
+        At `point`: ``σ_r(DΦ_free·s) / σ₁(DΦ·s)`` (:func:`held_margins`), against :data:`REGULAR_RTOL`.
     alternatives : ndarray, shape=[t, point_size]
         The other neighbours as well conditioned as `point` (within :data:`TIE_RTOL`), distinct from it and from
         each other: a start symmetric between its neighbours (the slider-crank at a dead centre between its two
         mirror-image assembly modes) has no neighbour better than the others, and which of them is `point`
-        follows the coordinates' orientation (:func:`regular_start`). Empty when the neighbour is unique.
+        follows the coordinates' orientation (:func:`regular_start`). No rows (t = 0) when the neighbour is
+        unique or the start is not left.
+    cspace : bool
+        Whether the given start is a C-space singularity: DΦ·s of a lower rank there than the `constraint_rank`
+        given (:func:`held_margins`).
     """
 
     point: np.ndarray
@@ -144,6 +156,7 @@ class StartingPoint:
     moved: float
     margin: float
     alternatives: np.ndarray = dataclass_field(default_factory=lambda: np.zeros((0, 0)))
+    cspace: bool = False
 
     @property
     def tied(self):
@@ -152,9 +165,10 @@ class StartingPoint:
         return 1 + len(self.alternatives)
 
     def to_dict(self):
-        """``{"singular", "moved", "margin", "tolerance", "tied"}`` for a coverage or a JSON document."""
-        return {"singular": self.singular, "moved": self.moved, "margin": self.margin, "tolerance": REGULAR_RTOL,
-                "tied": self.tied}
+        """``{"singular", "cspace", "moved", "margin", "tolerance", "tied"}`` for a coverage or a JSON
+        document."""
+        return {"singular": self.singular, "cspace": self.cspace, "moved": self.moved, "margin": self.margin,
+                "tolerance": REGULAR_RTOL, "tied": self.tied}
 
 
 @dataclass(frozen=True)
@@ -411,8 +425,14 @@ def held_margins(mechanism, points, held, constraint_rank=None):
     Above :data:`REGULAR_RTOL`, the `held` tangent coordinates are independent coordinates of M there: the loops
     can be solved for the others (the implicit-function theorem). With `constraint_rank`, the rank of DΦ·s on M
     (the survey's), r is at least it: at a C-space singularity (DΦ·s of a lower rank: M is no manifold there,
-    its branches may cross) no choice of held coordinates is regular, and the margin, at most
-    ``σ_r(DΦ·s) / σ₁(DΦ·s)``, is at the rounding level."""
+    its branches may cross) no choice of held coordinates is regular — removing columns raises no singular
+    value, so the margin is at most ``σ_r(DΦ·s) / σ₁(DΦ·s)``, below the cut of DΦ's own rank decision
+    (:func:`manifold.rank_of_values`' default relative tolerance, :data:`REGULAR_RTOL` too)."""
+    return _margins_and_ranks(mechanism, points, held, constraint_rank)[0]
+
+
+def _margins_and_ranks(mechanism, points, held, constraint_rank=None):
+    """:func:`held_margins` and the numerical rank of DΦ·s at each point, shape=[n] each."""
     from manifold import rank_of_values, scaled_singular_values
     from mechanisms.kinematics import configuration_space
 
@@ -420,17 +440,18 @@ def held_margins(mechanism, points, held, constraint_rank=None):
     free = np.setdiff1d(np.arange(space.ambient.dim), np.asarray(held, dtype=int))
     points = np.atleast_2d(points)
     full = scaled_singular_values(space, points)  # block by block for a large mechanism
+    ranks = np.array([rank_of_values(values).rank for values in full], dtype=int)
     if not free.size:
-        return np.ones(len(full))
+        return np.ones(len(full)), ranks
     restricted = scaled_singular_values(space, points, columns=free)
     margins = np.zeros(len(full))
     for index, values in enumerate(full):
-        rank = max(rank_of_values(values).rank, constraint_rank or 0)
+        rank = max(int(ranks[index]), constraint_rank or 0)
         if rank == 0:
             margins[index] = 1.0
         elif rank <= restricted.shape[1]:
             margins[index] = restricted[index, rank - 1] / max(values[0], 1e-300)
-    return margins
+    return margins, ranks
 
 
 def neighbour_directions(basis, axes=None):
@@ -460,11 +481,11 @@ def regular_start(mechanism, start, held, constraint_rank=None):
     Of the neighbours at the first step size at which one is regular, the best conditioned (largest margin)
     is taken. Those within :data:`TIE_RTOL` of the best are equally good (a start symmetric between them, as a
     dead centre between two mirror-image assembly modes, or neighbours whose margins differ by rounding): of
-    them the one of the first coordinate axis, + before −, is taken — a convention of the coordinates (an axis
-    sign or the joints' order picks another), so the others are returned too (``alternatives``) and counted
-    in the map's ``start.tied``. No choice among them can be independent of every coordinate change: flipping
-    every axis of a planar mechanism describes the same mechanism turned over, and turns each mirror-image
-    neighbour into the other.
+    them one is taken by a convention of the coordinates — the + directions before the −, then the first
+    axis (an axis sign or the joints' order picks another) — and the others, one per distinct configuration,
+    are returned too (``alternatives``) and counted in the map's ``start.tied``. No choice among them can be
+    independent of every coordinate change: flipping every axis of a planar mechanism describes the same
+    mechanism turned over, and turns each mirror-image neighbour into the other.
 
     Parameters
     ----------
@@ -489,13 +510,14 @@ def regular_start(mechanism, start, held, constraint_rank=None):
     space = configuration_space(mechanism)
     ambient = space.ambient
     start = np.asarray(start, dtype=float)
-    margin = float(held_margins(mechanism, start, held, constraint_rank)[0])
+    margins, ranks = _margins_and_ranks(mechanism, start, held, constraint_rank)
+    margin, cspace = float(margins[0]), bool(constraint_rank is not None and ranks[0] < constraint_rank)
     if margin > REGULAR_RTOL:
         return StartingPoint(start, False, 0.0, margin)
     scales = ambient.tangent_scales
     basis = tangent_basis(space, start)[0] / scales[:, None]  # dimensionless, orthonormal
     for size in NEIGHBOUR_STEPS:
-        found = _Neighbours(ambient, start)
+        found = _Neighbours(ambient)
         for first in range(0, ambient.dim, NEIGHBOUR_CHUNK):  # a chunk of axes at a time: bounded memory
             tangent, axes = neighbour_directions(basis, np.arange(first, min(first + NEIGHBOUR_CHUNK, ambient.dim)))
             directions = np.concatenate([tangent, -tangent]) * scales
@@ -509,38 +531,46 @@ def regular_start(mechanism, start, held, constraint_rank=None):
             for index in np.flatnonzero(good):
                 found.add(float(margins[index]), keys[index], corrected[index], float(moved[index]))
         if found.tied:
-            return found.choice()
-    return StartingPoint(start, True, 0.0, margin)
+            return found.choice(cspace)
+    return StartingPoint(start, True, 0.0, margin, cspace=cspace)
 
 
 class _Neighbours:
-    """The regular neighbours of a singular start within :data:`TIE_RTOL` of the best margin so far, one per
-    distinct configuration (farther apart than :data:`BRANCH_SEPARATION`, dimensionless), each with its
-    smallest key ``(sign, axis)``: memory O(distinct ties · k) whatever the number of axes, and the same set
-    whatever order the axes come in."""
+    """The regular neighbours of a singular start within :data:`TIE_RTOL` of the best margin so far, the
+    corrections of one configuration (closer than :data:`SAME_POINT`, dimensionless: the axes whose projections
+    onto T_pM are one direction) kept once, with their largest margin and smallest key ``(sign, axis)``. What
+    is kept does not depend on the order the axes come in: a neighbour pruned below the band of the best so
+    far is below the final best's; :meth:`choice` then groups the distinct configurations."""
 
-    def __init__(self, ambient, start):
-        self.ambient, self.start, self.best, self.tied = ambient, start, -math.inf, []
+    def __init__(self, ambient):
+        self.ambient, self.best, self.tied = ambient, -math.inf, []
+
+    def _distance(self, first, second):
+        return np.linalg.norm(self.ambient.inverse_retract(first, second) / self.ambient.tangent_scales)
 
     def add(self, margin, key, point, moved):
         if margin < self.best * (1.0 - TIE_RTOL):
             return
-        self.best = max(self.best, margin)
+        self.best, point = max(self.best, margin), np.array(point)  # a copy: not a view keeping the chunk alive
         self.tied = [entry for entry in self.tied if entry[0] >= self.best * (1.0 - TIE_RTOL)]
-        scales = self.ambient.tangent_scales
-        for position, entry in enumerate(self.tied):
-            if np.linalg.norm(self.ambient.inverse_retract(entry[2], point) / scales) <= BRANCH_SEPARATION:
-                if key < entry[1]:
-                    self.tied[position] = (margin, key, point, moved)
+        for position, (other_margin, other_key, other_point, other_moved) in enumerate(self.tied):
+            if self._distance(other_point, point) <= SAME_POINT:
+                self.tied[position] = ((max(margin, other_margin),) + min((key, point, moved),
+                                                                          (other_key, other_point, other_moved),
+                                                                          key=lambda entry: entry[0]))
                 return
         self.tied.append((margin, key, point, moved))
 
-    def choice(self):
-        """The tied neighbour of the smallest key, the others as its alternatives (in key order)."""
-        ordered = sorted(self.tied, key=lambda entry: entry[1])
-        margin, _, point, moved = ordered[0]
-        others = np.array([entry[2] for entry in ordered[1:]]).reshape(len(ordered) - 1, point.size)
-        return StartingPoint(point, True, moved, margin, others)
+    def choice(self, cspace):
+        """The tied neighbour of the smallest key, and the others, one per distinct configuration (farther than
+        :data:`BRANCH_SEPARATION` from the earlier ones in key order), as its alternatives."""
+        representatives = []
+        for margin, key, point, moved in sorted(self.tied, key=lambda entry: entry[1]):
+            if all(self._distance(other[2], point) > BRANCH_SEPARATION for other in representatives):
+                representatives.append((margin, key, point, moved))
+        margin, _, point, moved = representatives[0]
+        others = np.array([entry[2] for entry in representatives[1:]]).reshape(len(representatives) - 1, point.size)
+        return StartingPoint(point, True, moved, margin, others, cspace)
 
 
 def grid_neighbours(shape):
@@ -631,9 +661,10 @@ def assemble_grid(mechanism, start, targets, shape, held, bar=None, with_start=F
     with_start : bool
         Also return where the continuation started.
     constraint_rank : int, optional
-        The rank of DΦ·s on M (the survey's): a start at a C-space singularity is singular then, and the grid
-        is continued from a regular neighbour (:func:`regular_start`); by default only a start singular for the
-        held coordinates is.
+        The rank of DΦ·s on M (the survey's): a start at a C-space singularity is singular then, and the whole
+        grid is continued from a regular neighbour (:func:`regular_start`), none of it from the start (where
+        branches of M cross, the start's own continuation may take another branch than the neighbour's); by
+        default only a start singular for the held coordinates is.
 
     Returns
     -------
@@ -652,6 +683,7 @@ def assemble_grid(mechanism, start, targets, shape, held, bar=None, with_start=F
     targets = np.asarray(targets, dtype=float)
     given = np.asarray(start, dtype=float)
     starting = None  # the regular neighbour of a singular start, once needed
+    left = False     # whether the continuation has left the given start for its neighbour
     count = len(targets)
     periodic = _periodic_axes(ambient, targets, shape, held)
     neighbours = _wrapped(grid_neighbours(shape), periodic, shape)
@@ -663,6 +695,13 @@ def assemble_grid(mechanism, start, targets, shape, held, bar=None, with_start=F
     distance = np.linalg.norm(ambient.inverse_retract(start, targets)[:, held] / ambient.tangent_scales[held],
                               axis=-1)
     candidates = np.zeros(0, dtype=np.int64)
+    if constraint_rank is not None and _margins_and_ranks(mechanism, given, held)[1][0] < constraint_rank:
+        starting = regular_start(mechanism, given, held, constraint_rank)  # a C-space singularity: not from it
+        left = True
+        if starting.moved:
+            start = starting.point
+            distance = np.linalg.norm(ambient.inverse_retract(start, targets)[:, held] / ambient.tangent_scales[held],
+                                      axis=-1)
     while True:
         if candidates.size:  # a continuation front: each from one reached neighbour not tried yet
             around = neighbours[candidates]
@@ -691,8 +730,8 @@ def assemble_grid(mechanism, start, targets, shape, held, bar=None, with_start=F
             continue
         seed = _seed(mechanism, start, targets, held, entries, distance,
                      np.flatnonzero(~reached & ~started & ~tried.any(axis=1)), started)
-        if seed is None and starting is None:
-            starting = regular_start(mechanism, given, held, constraint_rank)
+        if seed is None and not left and not reached.all():  # points left that the start reaches not
+            starting, left = regular_start(mechanism, given, held, constraint_rank), True
             if starting.moved:  # a singular start: the rest of the grid from its regular neighbour
                 start = starting.point
                 distance = np.linalg.norm(ambient.inverse_retract(start, targets)[:, held]
@@ -709,9 +748,10 @@ def assemble_grid(mechanism, start, targets, shape, held, bar=None, with_start=F
         candidates = neighbours[index][neighbours[index] >= 0]
         candidates = candidates[~reached[candidates]]
     if with_start:
-        if starting is None or not starting.moved:
-            margin = float(held_margins(mechanism, given, held, constraint_rank)[0])
-            starting = StartingPoint(given, margin <= REGULAR_RTOL, 0.0, margin)
+        if starting is None:
+            margins, ranks = _margins_and_ranks(mechanism, given, held, constraint_rank)
+            starting = StartingPoint(given, bool(margins[0] <= REGULAR_RTOL), 0.0, float(margins[0]),
+                                     cspace=bool(constraint_rank is not None and ranks[0] < constraint_rank))
         return points, reached, starting
     return points, reached
 
@@ -734,7 +774,7 @@ def _seed(mechanism, start, targets, held, entries, distance, fresh, started):
     return None
 
 
-def assemble_branches(mechanism, start, targets, shape, held, count, rng, probes=8, tries=16):
+def assemble_branches(mechanism, start, targets, shape, held, count, rng, probes=8, tries=16, constraint_rank=None):
     """The grid assembled on the start's branch and on up to ``count − 1`` other assembly branches (module notes).
 
     Parameters
@@ -752,6 +792,8 @@ def assemble_branches(mechanism, start, targets, shape, held, count, rng, probes
         Grid points where the loops are solved from random values.
     tries : int
         Random values per probe.
+    constraint_rank : int, optional
+        The rank of DΦ·s on M, for the first branch's start (:func:`assemble_grid`).
 
     Returns
     -------
@@ -769,7 +811,8 @@ def assemble_branches(mechanism, start, targets, shape, held, count, rng, probes
     scales = ambient.tangent_scales
     targets = np.asarray(targets, dtype=float)
     held = np.asarray(held, dtype=int)
-    first, reached, starting = assemble_grid(mechanism, start, targets, shape, held, with_start=True)
+    first, reached, starting = assemble_grid(mechanism, start, targets, shape, held, with_start=True,
+                                             constraint_rank=constraint_rank)
     points, masks = [first], [reached]
     if count <= 1:
         return np.array(points), np.array(masks), starting, 0

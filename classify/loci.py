@@ -151,8 +151,8 @@ class Loci:
     coverage : dict
         ``dof``, ``grid`` (names and counts, 2 and 3 dof), ``reached`` grid points, ``seeds``, ``pieces``,
         ``closed`` per piece, ``unconfirmed`` (points dropped per kind), ``not_traced`` (kinds and why),
-        ``tolerance``, ``step``; 2 and 3 dof: ``start`` (``singular``, ``moved``, ``margin``, ``tolerance``:
-        :meth:`classify.grid_continuation.StartingPoint.to_dict`); 2 dof with ``assembly_branches`` > 1:
+        ``tolerance``, ``step``; 2 and 3 dof: ``start`` (``singular``, ``cspace``, ``moved``, ``margin``,
+        ``tolerance``, ``tied``: :meth:`classify.grid_continuation.StartingPoint.to_dict`); 2 dof with ``assembly_branches`` > 1:
         ``assembly_branches`` (``found``, ``reached`` per branch, ``solutions`` the probes found, ``asked``); 1 dof:
         ``whole_branch`` (per branch singular everywhere: ``kind``, ``branch``, ``points``, ``largest``
         magnitude, ``tolerance``); 3 dof: ``section`` ({name: [a, b, n]}) and ``sections`` (per section its
@@ -354,7 +354,7 @@ def _trace_sections(mechanism, model, survey, start, columns, ranges, counts, fu
     ambient = model.manifold.ambient
     grids, masks, starting, solutions = _assembled_grid(mechanism, start, columns[2:] + columns[:2],
                                                         ranges[2:] + ranges[:2], counts[2:] + counts[:2],
-                                                        assembly_branches, rng)
+                                                        assembly_branches, rng, survey.constraint_rank)
     coverage["start"] = starting.to_dict()
     if assembly_branches > 1:
         coverage["assembly_branches"] = {"found": int(len(grids)), "reached": [int(mask.sum()) for mask in masks],

@@ -102,10 +102,11 @@ def _grid_arguments(mechanism, start, columns, ranges, counts, dof=2):
     return columns, ranges, counts
 
 
-def _assembled_grid(mechanism, start, columns, ranges, counts, assembly_branches=1, rng=None):
+def _assembled_grid(mechanism, start, columns, ranges, counts, assembly_branches=1, rng=None, constraint_rank=None):
     """The grid assembled by continuation from `start` (:func:`classify.grid_continuation.assemble_branches`; a
     singular start reaching nothing: from its regular neighbour); (points [b, n, point_size], reached [b, n],
-    StartingPoint, distinct solutions the probes found)."""
+    StartingPoint, distinct solutions the probes found); `constraint_rank` the survey's rank of DΦ·s on M (a start
+    at a C-space singularity is left for a regular neighbour)."""
     from .grid_continuation import Grid, assemble_branches, grid_targets, held_columns
 
     grid = Grid(tuple(mechanism.coordinate_names[column] for column in columns), tuple(columns),
@@ -114,5 +115,6 @@ def _assembled_grid(mechanism, start, columns, ranges, counts, assembly_branches
     rng = np.random.default_rng(0) if rng is None else rng
     points, reached, starting, solutions = assemble_branches(mechanism, start, targets, grid.shape,
                                                              held_columns(mechanism, grid, False),
-                                                             assembly_branches, rng)
+                                                             assembly_branches, rng,
+                                                             constraint_rank=constraint_rank)
     return points, np.asarray(reached, dtype=bool), starting, solutions

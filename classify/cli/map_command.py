@@ -23,7 +23,7 @@ inputs), or at a C-space singularity (DΦ of a lower rank than the survey's),
 continuation can reach nothing: the grid points it leaves are then
 started from a regular neighbour on M
 (:func:`classify.grid_continuation.regular_start`), said in the output
-(JSON ``"start": {"singular", "moved", "margin", "tolerance", "tied"}``, null
+(JSON ``"start": {"singular", "cspace", "moved", "margin", "tolerance", "tied"}``, null
 with ``--project``; ``tied`` > 1 where other neighbours were as well
 conditioned, as the two mirror-image assembly modes next to a dead centre:
 which one the map follows is then a convention of the coordinates).
@@ -269,7 +269,8 @@ def run(arguments, out):
                **outputs.kind_counts(result)}
     summary_text = "map of " + outputs.summary_line(summary, grid.size, "grid points")
     if starting is not None and starting.singular:
-        summary_text += " (the start is singular for the held coordinates" + (
+        summary_text += (" (the start is a C-space singularity" if starting.cspace
+                         else " (the start is singular for the held coordinates") + (
             f"; the points it leaves continued from a regular neighbour on M {starting.moved:.3g} away"
             + (f", one of {starting.tied} as well conditioned)" if starting.tied > 1 else ")")
             if starting.moved else ")")

@@ -120,5 +120,88 @@ def test_a_start_at_a_cspace_singularity_is_singular_and_left_for_a_regular_neig
             "--format", "json"]
     assert main(argv) == 0
     document = json.loads(capsys.readouterr().out)
-    assert document["start"]["singular"] and document["start"]["moved"] > 0
+    assert document["start"]["singular"] and document["start"]["cspace"] and document["start"]["moved"] > 0
     assert document["summary"]["reachable"] > 2
+    assert main(argv[:-2]) == 0
+    assert "(the start is a C-space singularity; the points it leaves continued from" in capsys.readouterr().out
+
+
+def test_a_grid_at_a_cspace_singularity_is_continued_from_the_neighbour_alone(monkeypatch):
+    """Where branches of M cross (Park & Kim Fig. 1a), the start's own continuation reached grid points on
+    another branch than its regular neighbour's, and the map joined them (a review found neighbouring grid
+    points 0.35 apart in the free joints, continuation failing between them both ways). With the survey's
+    rank the whole grid is continued from the neighbour: no continuation leaves the start itself."""
+    from classify.grid_continuation import assemble_grid, held_columns, Grid, grid_targets
+
+    mechanism = catalogue.entry("five-bar").mechanism("fig1a_collinear")
+    start = configuration(mechanism, {}).point
+    grid = Grid(("A", "B"), (0, 4), (-0.2, -0.2), (0.2, 0.2), (5, 5))
+    origins = []
+    original = grid_continuation._continue
+
+    def recorded(mechanism, current, targets, held, entries):
+        origins.extend(np.all(np.isclose(current, start, rtol=0, atol=1e-12), axis=-1))
+        return original(mechanism, current, targets, held, entries)
+
+    monkeypatch.setattr(grid_continuation, "_continue", recorded)
+    _, reached, starting = assemble_grid(mechanism, start, grid_targets(mechanism, grid, start), grid.shape,
+                                         held_columns(mechanism, grid), with_start=True, constraint_rank=3)
+    assert starting.cspace and starting.moved > 0 and reached.sum() > 2
+    assert origins and not any(origins)
+
+
+def test_a_start_that_reaches_the_whole_grid_is_not_said_to_be_left():
+    """Park & Kim Fig. 1c without the survey's rank (the start counts as regular): every grid point is reached
+    from the start, yet a regular neighbour was looked for and reported as where the grid was continued from
+    (moved 0.048, tied 2; a review)."""
+    from classify.grid_continuation import assemble_grid, held_columns, Grid, grid_targets
+
+    mechanism = catalogue.entry("five-bar").mechanism("fig1c_collinear")
+    start = configuration(mechanism, {}).point
+    grid = Grid(("A", "B"), (0, 4), (-0.2, -0.2), (0.2, 0.2), (5, 5))
+    _, reached, starting = assemble_grid(mechanism, start, grid_targets(mechanism, grid, start), grid.shape,
+                                         held_columns(mechanism, grid), with_start=True)
+    assert reached.all() and starting.moved == 0 and starting.tied == 1 and not starting.cspace
+
+
+def test_the_loci_leave_a_cspace_singular_start_too():
+    from classify.loci import trace_loci
+
+    mechanism = catalogue.entry("five-bar").mechanism("fig1a_collinear")
+    found = trace_loci(mechanism, configuration(mechanism, {}).point, counts=(5, 5),
+                       ranges=((-0.2, 0.2), (-0.2, 0.2)), kinds=("actuator",))
+    assert found.coverage["start"]["cspace"] and found.coverage["start"]["moved"] > 0
+
+
+def test_the_tied_neighbours_do_not_depend_on_the_order_they_come_in():
+    """A neighbour merged into another that a better one later pruned was dropped with it, and chained
+    neighbours were counted once or twice, by the order the axes came in (a review): the set kept is now every
+    neighbour within the band of the final best, grouped in key order."""
+    import itertools
+
+    from mechanisms import kinematics_of
+
+    mechanism = catalogue.entry("slider-crank").mechanism()
+    space = kinematics_of(mechanism).ambient
+    home_point = configuration(mechanism, {}).point
+    unit = np.zeros(space.dim)
+
+    def near(offset):
+        step = unit.copy()
+        step[0] = offset
+        return space.retract(home_point, step * space.tangent_scales)
+
+    margin = 0.01
+    cases = {"dropped": [(margin, (0, 1), near(0.0)), (margin * (1 + 0.9e-6), (0, 4), near(5e-4)),
+                         (margin * (1 + 1.5e-6), (1, 2), near(0.5))],
+             "chained": [(margin, (0, 1), near(0.0)), (margin, (0, 2), near(8e-4)), (margin, (0, 3), near(1.6e-3))]}
+    for name, entries in cases.items():
+        results = set()
+        for order in itertools.permutations(entries):
+            found = grid_continuation._Neighbours(space)
+            for value, key, point in order:
+                found.add(value, key, point, 0.0)
+                assert not any(np.shares_memory(point, kept[2]) for kept in found.tied)
+            chosen = found.choice(False)
+            results.add((tuple(np.round(chosen.point, 12)), chosen.tied))
+        assert len(results) == 1, (name, results)
