@@ -152,8 +152,9 @@ class Loci:
         ``dof``, ``grid`` (names and counts, 2 and 3 dof), ``reached`` grid points, ``seeds``, ``pieces``,
         ``closed`` per piece, ``unconfirmed`` (points dropped per kind), ``not_traced`` (kinds and why),
         ``tolerance``, ``step``; 2 and 3 dof: ``start`` (``singular``, ``cspace``, ``moved``, ``margin``,
-        ``tolerance``, ``tied``: :meth:`classify.grid_continuation.StartingPoint.to_dict`); 2 dof with ``assembly_branches`` > 1:
-        ``assembly_branches`` (``found``, ``reached`` per branch, ``solutions`` the probes found, ``asked``); 1 dof:
+        ``tolerance``, ``tied``: :meth:`classify.grid_continuation.StartingPoint.to_dict`); 2 dof with
+        ``assembly_branches`` > 1: ``assembly_branches`` (``found``, ``reached`` per branch, ``solutions`` the
+        probes found, ``asked``); 1 dof:
         ``whole_branch`` (per branch singular everywhere: ``kind``, ``branch``, ``points``, ``largest``
         magnitude, ``tolerance``); 3 dof: ``section`` ({name: [a, b, n]}) and ``sections`` (per section its
         ``value``, grid points ``reached``, ``seeds`` and ``pieces`` per kind); 1 and 2 dof with ``cspace``:
