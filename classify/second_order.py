@@ -247,24 +247,15 @@ def idle_slice(manifold, point, basis, neighbours, freedom_rows, idle, rtol=1e-6
         I, orthonormal (dimensionless coordinates).
     """
     scales = manifold.ambient.tangent_scales
-    expected = basis.shape[1] - idle
-    projector = np.zeros((basis.shape[0],) * 2)
-    used = 0
-    for neighbour in neighbours:
-        tangent, _ = tangent_basis(manifold, neighbour, rtol=rtol)
-        if tangent.shape[1] != basis.shape[1]:
-            continue
-        # the ι smallest right singular vectors: the idle freedoms are exact kernel vectors everywhere,
-        # while the singularity's own small singular values grow with the distance
-        right = np.linalg.svd(freedom_rows(neighbour) @ tangent, full_matrices=True)[2][expected:].T
-        kernel = (tangent @ right) / scales[:, None]
-        projector += kernel @ kernel.T
-        used += 1
+    projector, used = _idle_projectors(manifold, basis, neighbours, freedom_rows, idle, rtol)
     if not used:
         return None, np.zeros((basis.shape[0], 0))
-    leading = np.linalg.eigh(projector / used)[1][:, ::-1][:, :idle]
+    projector /= used
+    leading = np.linalg.eigh(projector)[1][:, ::-1][:, :idle]
+    del projector  # with ι close to k (a long serial chain) every [k, ι] array is k × k: one at a time
     unit_basis = basis / scales[:, None]
     directions = np.linalg.qr(unit_basis @ (unit_basis.T @ leading))[0]
+    del leading, unit_basis
     rows = directions.T / scales
     ambient = manifold.ambient
     base = np.asarray(point, dtype=float)
@@ -282,6 +273,29 @@ def idle_slice(manifold, point, basis, neighbours, freedom_rows, idle, rtol=1e-6
 
     return ImplicitManifold(ambient, constraint, jacobian, is_solution=manifold.is_solution,
                             constraint_hessian_form=second_derivative), directions
+
+
+def _idle_projectors(manifold, basis, neighbours, freedom_rows, idle, rtol):
+    """The sum of the projectors onto the idle kernels at the regular `neighbours` (dimensionless), shape=[k, k],
+    and how many there were (:func:`idle_slice`); each neighbour's arrays freed before the next's."""
+    scales = manifold.ambient.tangent_scales
+    expected = basis.shape[1] - idle
+    projector = np.zeros((basis.shape[0],) * 2)
+    used = 0
+    for neighbour in neighbours:
+        tangent, _ = tangent_basis(manifold, neighbour, rtol=rtol)
+        if tangent.shape[1] != basis.shape[1]:
+            continue
+        # the ι smallest right singular vectors: the idle freedoms are exact kernel vectors everywhere,
+        # while the singularity's own small singular values grow with the distance
+        right = np.linalg.svd(freedom_rows(neighbour) @ tangent, full_matrices=True)[2][expected:].T
+        kernel = tangent @ right
+        del tangent, right
+        kernel /= scales[:, None]
+        projector += kernel @ kernel.T
+        del kernel
+        used += 1
+    return projector, used
 
 
 def _form_values(forms, vectors):

@@ -28,7 +28,8 @@ __all__ = [
     "Element", "Chain", "ChainGroup", "LinkChains", "elements_of_joint", "chains_of", "chain_coordinates",
     "chain_shape", "chain_group", "groups_of", "loop_pattern", "element_matrices", "expand_group", "expand",
     "loop_products", "hessian_blocks", "planar_prefixes", "planar_twists", "planar_loops", "PlanarTree",
-    "planar_tree", "planar_tree_products", "MatrixTree", "matrix_tree", "matrix_tree_products", "carried_twists",
+    "prefix_tree", "planar_tree", "planar_tree_products", "MatrixTree", "matrix_tree", "matrix_tree_products",
+    "carried_twists",
     "loop_first_order", "first_derivatives",
 ]
 
@@ -295,7 +296,7 @@ def chains_of(mechanism, joint_elements, loop_elements=None):
             step: loop_elements(ancestor, step) for step, _ in steps}
         loops.append(traverse(elements, steps))
         chords.append(joint.name)
-    link_chains = LinkChains(lambda link: traverse(joint_elements, tree_path(parents, link)), tuple(parents))
+    link_chains = LinkChains(joint_elements, parents)
     return tuple(loops), tuple(chords), link_chains
 
 
@@ -322,23 +323,92 @@ def branches(parents, depths, first, second):
 
 
 class LinkChains(Mapping):
-    """Link name -> chain from the ground to that link, each built on first use."""
+    """Link name -> chain from the ground to that link, each built on first use.
 
-    def __init__(self, build, links):
-        self._build, self._links, self._chains = build, links, {}
+    Parameters
+    ----------
+    joint_elements : list of list of Element
+        The forward elements of each joint, in file order.
+    parents : dict
+        Link -> (joint index, forward, parent link) on the spanning tree, None for the ground (its first key).
+
+    Notes
+    -----
+    The chains of a serial chain of k joints hold k(k + 1)/2 elements in all:
+    what walks many links' chains (:func:`prefix_tree`) goes up the tree one
+    step at a time (:meth:`step`) and shares the prefixes instead.
+    """
+
+    def __init__(self, joint_elements, parents):
+        self._joint_elements, self._parents, self._chains = joint_elements, parents, {}
+        self.ground = next(iter(parents))
 
     def __getitem__(self, link):
         if link not in self._chains:
-            if link not in self._links:
+            if link not in self._parents:
                 raise KeyError(link)
-            self._chains[link] = self._build(link)
+            self._chains[link] = traverse(self._joint_elements, tree_path(self._parents, link))
         return self._chains[link]
 
     def __iter__(self):
-        return iter(self._links)
+        return iter(self._parents)
 
     def __len__(self):
-        return len(self._links)
+        return len(self._parents)
+
+    def parent(self, link):
+        """The link before `link` on the spanning tree (None for the ground)."""
+        return None if self._parents[link] is None else self._parents[link][2]
+
+    def step(self, link):
+        """The elements of the tree joint from :meth:`parent` to `link`, in product order (none for the ground)."""
+        if self._parents[link] is None:
+            return ()
+        index, forward, _ = self._parents[link]
+        return traverse(self._joint_elements, [(index, forward)]).elements
+
+
+def prefix_tree(link_chains, links):
+    """The tree of the prefixes of the chains from the ground to `links`, in O(elements on the spanning tree).
+
+    Chains along a spanning tree share their prefixes: each link's chain is
+    its parent's followed by the tree joint's elements (:meth:`LinkChains.step`),
+    so the tree has a node per element on the paths to `links`, without
+    writing out any chain (a serial chain's k chains hold k(k + 1)/2 elements).
+
+    Parameters
+    ----------
+    link_chains : LinkChains
+    links : sequence of str
+
+    Returns
+    -------
+    parents : ndarray of int, shape=[p]
+        Node 0 is the empty prefix (its own parent); node j > 0 one element longer than its parent.
+    last : list of Element, length p − 1
+        The last element of nodes 1, …, p − 1.
+    ends : ndarray of int, shape=[c]
+        The node of each link's chain, in the order of `links`.
+    lengths : ndarray of int, shape=[c]
+        The number of elements of each link's chain.
+    """
+    nodes, parents, last, lengths = {link_chains.ground: 0}, [0], [], [0]
+    ends = np.zeros(len(links), dtype=np.intp)
+    for position, link in enumerate(links):
+        path = []
+        while link not in nodes:
+            path.append(link)
+            link = link_chains.parent(link)
+        node = nodes[link]
+        for link in reversed(path):
+            for element in link_chains.step(link):
+                parents.append(node)
+                last.append(element)
+                lengths.append(lengths[node] + 1)
+                node = len(parents) - 1
+            nodes[link] = node
+        ends[position] = node
+    return np.array(parents, dtype=np.intp), last, ends, np.array(lengths, dtype=np.intp)[ends]
 
 
 def element_matrices(space, group, point):
@@ -504,7 +574,7 @@ def _planar_constants(group):
 
 @dataclass(frozen=True, eq=False)
 class PlanarTree:
-    """The chains of several planar :class:`ChainGroup` as one tree of their prefixes (:func:`planar_tree`),
+    """Chains of a planar mechanism from the ground as one tree of their prefixes (:func:`planar_tree`),
     for the products of all of them in a few array operations (:func:`planar_tree_products`).
 
     Attributes
@@ -533,33 +603,18 @@ class PlanarTree:
     rounds: int
 
 
-def planar_tree(chain_groups):
-    """The :class:`PlanarTree` of the chains of planar groups (chains from the ground along a spanning tree
-    share their prefixes: the tree has a node per distinct prefix, at most the number of 1-dof elements)."""
-    count = sum(len(group.chains) for group in chain_groups)
-    nodes = {}                                                       # (parent, value, sign) -> node
-    parents, values, signs, centres, directions, rotation = [0], [0], [0.0], [0j], [0j], [True]
-    ends, longest = np.zeros(count, dtype=np.intp), 0
-    for group in chain_groups:
-        group_centres, group_directions, _ = _planar_constants(group)
-        for row, position in enumerate(group.chains):
-            node = 0
-            for column in range(group.values.shape[1]):
-                key = (node, int(group.values[row, column]), float(group.signs[row, column]))
-                if key not in nodes:
-                    nodes[key] = len(parents)
-                    parents.append(node)
-                    values.append(key[1])
-                    signs.append(key[2])
-                    centres.append(group_centres[row, column])
-                    directions.append(group_directions[row, column])
-                    rotation.append(bool(group.rotation[row, column]))
-                node = nodes[key]
-            ends[position] = node
-            longest = max(longest, group.values.shape[1])
-    return PlanarTree(np.array(parents, dtype=np.intp), np.array(values, dtype=np.intp), np.array(signs),
-                      np.array(centres, dtype=complex), np.array(directions, dtype=complex),
-                      np.array(rotation, dtype=bool), ends, int(np.ceil(np.log2(max(longest, 1)))))
+def planar_tree(link_chains, links):
+    """The :class:`PlanarTree` of the chains from the ground to `links` of a planar mechanism: a node per
+    element on their paths along the spanning tree (:func:`prefix_tree`), in O(k) memory for k joints."""
+    parents, last, ends, lengths = prefix_tree(link_chains, links)
+    values, signs, element_twists, rotation, _ = _element_arrays("planar", [[element] for element in last])
+    twists = element_twists.reshape(-1, 3, 3)                                  # signed, as _planar_constants
+    centres = -twists[:, 1, 2] + 1j * twists[:, 0, 2]
+    directions = twists[:, 0, 2] + 1j * twists[:, 1, 2]
+    return PlanarTree(parents, np.concatenate([[0], values.ravel()]).astype(np.intp),
+                      np.concatenate([[0.0], signs.ravel()]), np.concatenate([[0j], centres]),
+                      np.concatenate([[0j], directions]), np.concatenate([[True], rotation.ravel()]), ends,
+                      int(np.ceil(np.log2(np.max(lengths, initial=1)))))
 
 
 def planar_tree_products(tree, point):
@@ -608,31 +663,11 @@ class MatrixTree:
     rounds: int
 
 
-def _element_key(element):
-    """What makes two elements the same factor of a product (their twists' bytes: one joint's element may be
-    written about different points in different chains)."""
-    if element.kind == "ball":
-        return "ball", element.point_part.start, bool(element.inverse), np.asarray(element.center).tobytes()
-    return element.kind, int(element.point_part), float(element.sign), np.asarray(element.twists[0]).tobytes()
-
-
-def matrix_tree(space, chains):
-    """The :class:`MatrixTree` of `chains` (chains from the ground along a spanning tree share their
-    prefixes: a node per distinct prefix, at most the number of elements)."""
-    nodes, parents, last = {}, [0], [None]                # (parent, element key) -> node; its last element
-    ends, longest = np.zeros(len(chains), dtype=np.intp), 0
-    for position, chain in enumerate(chains):
-        node = 0
-        for element in chain.elements:
-            key = (node, _element_key(element))
-            if key not in nodes:
-                nodes[key] = len(parents)
-                parents.append(node)
-                last.append(element)
-            node = nodes[key]
-        ends[position] = node
-        longest = max(longest, len(chain.elements))
-    values, signs, element_twists, rotation, balls = _element_arrays(space, [[element] for element in last[1:]])
+def matrix_tree(space, link_chains, links):
+    """The :class:`MatrixTree` of the chains from the ground to `links`: a node per element on their paths
+    along the spanning tree (:func:`prefix_tree`), in O(k) memory for k joints."""
+    parents, last, ends, lengths = prefix_tree(link_chains, links)
+    values, signs, element_twists, rotation, balls = _element_arrays(space, [[element] for element in last])
     size = groups.MATRIX_SIZE[space]
     # node 0: a translation by zero along no axis, the identity
     values = np.concatenate([np.zeros((1, 1), dtype=np.intp), values.reshape(-1, 1)])
@@ -642,7 +677,7 @@ def matrix_tree(space, chains):
     if balls is not None:
         balls = (balls[0] + 1,) + balls[1:]
     return MatrixTree(values, signs, element_twists, element_twists @ element_twists, rotation, balls,
-                      np.array(parents, dtype=np.intp), ends, int(np.ceil(np.log2(max(longest, 1)))))
+                      parents, ends, int(np.ceil(np.log2(np.max(lengths, initial=1)))))
 
 
 def matrix_tree_products(space, tree, point):

@@ -1053,7 +1053,8 @@ def _reference_plan(mechanism):
     first = tuple(dict.fromkeys((mechanism.ground, compiled.end_effector_link)))
     # of two links that carry an axis: the ground's pose costs nothing and the end-effector link's is computed
     # anyway; else the nearer the ground
-    cost = lambda link: (-1 if link in first else len(compiled.link_chains[link].elements))
+    lengths = dict(zip(mechanism.links, chains.prefix_tree(compiled.link_chains, mechanism.links)[3]))
+    cost = lambda link: (-1 if link in first else lengths[link])
     carried, tangent_start = {link: [] for link in first}, 0
     for joint in mechanism.joints:
         elements = chains.elements_of_joint(mechanism, joint, compiled.point_parts[joint.name], tangent_start)
@@ -1069,9 +1070,9 @@ def _reference_plan(mechanism):
     twists = np.zeros((len(links), dimension, max(block.shape[1] for block in blocks)))
     for position, block in enumerate(blocks):
         twists[position, :, :block.shape[1]] = block
-    carrier_chains = [compiled.link_chains[link] for link in links[len(first):]]
-    tree = (chains.planar_tree(chains.groups_of(space, carrier_chains)) if space == "planar"
-            else chains.matrix_tree(space, carrier_chains))
+    carriers = links[len(first):]
+    tree = (chains.planar_tree(compiled.link_chains, carriers) if space == "planar"
+            else chains.matrix_tree(space, compiled.link_chains, carriers))
     plan = _ReferencePlan(links, len(first), tree, twists)
     _REFERENCE_PLANS[mechanism] = plan
     return plan

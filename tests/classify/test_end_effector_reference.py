@@ -205,6 +205,20 @@ def test_a_u_joint_written_the_other_way_round_keeps_the_reference_away_from_hom
     np.testing.assert_allclose(reference_values(other, other_point), values, rtol=1e-12, atol=1e-12 * values[0])
 
 
+def screw_reference(mechanism, points):
+    """The end-effector reference of a planar mechanism in matrix form (``_screw_reference``: the carriers' poses
+    from the matrix tree of their chains' prefixes, the planar plan's tree being the complex one)."""
+    import dataclasses
+
+    from mechanisms import _chains as chains
+    from mechanisms.kinematics import _reference_plan, _screw_reference
+
+    compiled = kinematics_of(mechanism)
+    plan = _reference_plan(mechanism)
+    tree = chains.matrix_tree(compiled.space, compiled.link_chains, plan.carriers[plan.chained:])
+    return _screw_reference(mechanism, compiled, dataclasses.replace(plan, tree=tree), points)
+
+
 @pytest.mark.parametrize("name", ["five-bar", "slider-crank", "planar-six-bar", "watt-six-bar", "planar-3rrr",
                                   "3-prr"])
 def test_the_planar_complex_form_is_the_screw_columns_in_dfs_chart(name):
@@ -213,13 +227,12 @@ def test_the_planar_complex_form_is_the_screw_columns_in_dfs_chart(name):
     same singular values under any weighting of the rows (H^½ = diag(1, 10, ...), a model's own metric; a review
     found a closed form that rotated the rows 0.68 off under diag(1, 100)), at points of M walked from home."""
     from manifold import sample_manifold
-    from mechanisms.kinematics import _reference_plan, _screw_reference
 
     mechanism = catalogue.entry(name).mechanism()
     model = model_of(mechanism)
     points = sample_manifold(model.manifold, np.random.default_rng(1), model.starts, random_count=2, walk_count=6)
     closed = end_effector_reference(mechanism, points)
-    columns = _screw_reference(mechanism, kinematics_of(mechanism), _reference_plan(mechanism), points)
+    columns = screw_reference(mechanism, points)
     for weights in (np.ones(model.end_effector_dimension), 10.0 ** np.arange(model.end_effector_dimension)):
         expected = np.linalg.svd(weights[:, None] * columns, compute_uv=False)
         np.testing.assert_allclose(np.linalg.svd(weights[:, None] * closed, compute_uv=False), expected, rtol=1e-12,
@@ -230,13 +243,12 @@ def test_a_planar_point_far_from_its_joints_keeps_its_small_singular_value():
     """An end-effector point 1e6 lengths from the joints: σ₂ of the reference rows keeps its digits (a closed form
     (Σ|z|² − |Σz²|)/2 lost 3e-5 of it; a review found it)."""
     from mechanisms import EndEffector
-    from mechanisms.kinematics import _reference_plan, _screw_reference
 
     mechanism = catalogue.entry("slider-crank").mechanism()
     far = Mechanism(mechanism.name, mechanism.space, mechanism.joints, mechanism.ground,
                     EndEffector(mechanism.end_effector.link, (1e6, 3e5), "position"))
     point = home(far)
-    expected = np.linalg.svd(_screw_reference(far, kinematics_of(far), _reference_plan(far), point), compute_uv=False)
+    expected = np.linalg.svd(screw_reference(far, point), compute_uv=False)
     np.testing.assert_allclose(np.linalg.svd(end_effector_reference(far, point), compute_uv=False), expected,
                                rtol=1e-9)
 

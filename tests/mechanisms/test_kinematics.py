@@ -373,7 +373,7 @@ def test_the_prefix_tree_of_planar_chains_gives_their_products(name):
     compiled = kinematics_of(mechanism)
     links = [link for link in compiled.link_chains if link != mechanism.ground]
     groups = chains.groups_of("planar", [compiled.link_chains[link] for link in links])
-    tree = chains.planar_tree(groups)
+    tree = chains.planar_tree(compiled.link_chains, links)
     assert len(tree.parents) <= 1 + len(mechanism.joints)
     assert name.startswith("ladder") or not all(group.rotation.all() for group in groups)  # P joints
     points = compiled.ambient.retract(np.broadcast_to(home(mechanism), (3, compiled.ambient.point_size)),
@@ -431,7 +431,7 @@ def test_the_prefix_tree_of_matrix_chains_gives_their_products(name):
     compiled = kinematics_of(mechanism)
     links = [link for link in compiled.link_chains if link != mechanism.ground]
     link_chains = [compiled.link_chains[link] for link in links]
-    tree = chains.matrix_tree(compiled.space, link_chains)
+    tree = chains.matrix_tree(compiled.space, compiled.link_chains, links)
     assert len(tree.parents) <= 1 + sum(len(chain.elements) for chain in link_chains)
     assert len(tree.parents) < 1 + sum(len(chain.elements) for chain in link_chains) or len(links) == 1
     points = compiled.ambient.retract(np.broadcast_to(home(mechanism), (3, compiled.ambient.point_size)),
