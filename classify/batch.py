@@ -61,7 +61,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from manifold import DEFAULT_ATOL, DEFAULT_RTOL, check_rtol, handled_by_blocks, implicit, tangent_extents
-from manifold.blocks import decompose, union_of_values
+from manifold.blocks import block_vectors, decompose, union_of_values
 from mechanisms import CLOSURE_TOLERANCE, ConfigurationError, Mechanism, closure_and_jacobian
 from mechanisms.kinematics import rotation_blocks
 from mechanisms.mechanism import dense_memory_estimate
@@ -563,8 +563,8 @@ def _block_kernel_bases(decomposition, selection, tolerance, manifold, rank):
     count, size = len(selection), manifold.ambient.dim
     free = manifold.pattern.free_columns
     dimension = size - rank
-    pieces = [_block_kernel_vectors(group, values[selection], right[selection], tolerance)
-              for group, values, right in decomposition]
+    pieces = block_vectors([(group, values[selection], right[selection]) for group, values, right in decomposition],
+                           tolerance, kernel=True)
     bases = np.zeros((count, size, dimension))
     start = np.zeros(count, dtype=np.intp)
     for configurations, columns, vectors in pieces:
@@ -575,24 +575,6 @@ def _block_kernel_bases(decomposition, selection, tolerance, manifold, rank):
         start += counts
     bases[:, free, np.arange(dimension - len(free), dimension)] = 1.0
     return bases
-
-
-def _block_kernel_vectors(group, values, right, tolerance):
-    """The kernel vectors of one block group's blocks (dimensionless), configuration by configuration in block
-    order: ``(configuration [t], columns [t, q], vectors [t, q])``.
-
-    Parameters
-    ----------
-    group : BlockGroup
-    values : ndarray, shape=[g, blocks, min(r, q)]
-    right : ndarray, shape=[g, blocks, q, q]
-        Vᴴ of each block.
-    tolerance : ndarray, shape=[g]
-    """
-    ranks = np.count_nonzero(values > tolerance[:, None, None], axis=-1)       # [g, blocks]
-    beyond = np.arange(right.shape[-2]) >= ranks[..., None]                    # [g, blocks, q]
-    configurations, blocks, rows = np.nonzero(beyond)
-    return configurations, group.columns[blocks], right[configurations, blocks, rows]
 
 
 #: the largest condition number ``|C|_F |C⁻¹|_F`` of a loop's own block for which :func:`_arrow_bases` is used

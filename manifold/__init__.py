@@ -18,7 +18,7 @@ _SOURCES = {
     **dict.fromkeys(("ManifoldError", "ProjectionError"), ".errors"),
     **dict.fromkeys(("ImplicitManifold", "constraint_curvature", "handled_by_blocks", "hessian_form", "jacobian_rank",
                      "minimum_norm_steps", "normal_basis", "project", "project_many", "residual", "scaled_jacobian",
-                     "scaled_singular_values", "sparse_tangent_basis", "tangent_basis"), ".implicit"),
+                     "scaled_singular_values", "settle_blocks", "sparse_tangent_basis", "tangent_basis"), ".implicit"),
     **dict.fromkeys(("DEFAULT_ATOL", "DEFAULT_RTOL", "RankDecision", "numerical_rank", "rank_of_values",
                       "check_rtol"), ".rank"),
     **dict.fromkeys(("EXTENT_CUT", "LocalRank", "largest_rank", "local_rank", "sample_manifold", "TangentExtent",

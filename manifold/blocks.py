@@ -257,20 +257,32 @@ def block_rank(values, shape, rtol, atol):
 
 
 def block_vectors(decomposition, tolerance, kernel):
-    """Right singular vectors of the blocks (dimensionless): the kernel ones (σ ≤ `tolerance`) or the
-    row-space ones.
+    """Right singular vectors of the blocks (dimensionless): the kernel ones (σ ≤ `tolerance`, each block's
+    right singular vectors beyond its count of values above the cut) or the row-space ones.
+
+    Parameters
+    ----------
+    decomposition : list of tuple
+        From :func:`decompose`: ``(block group, values [..., b, s], Vᴴ [..., b, q, q])`` of one matrix or of a
+        stack of them.
+    tolerance : float or ndarray, shape=[...]
+        The cut of the whole matrix's rank decision (one per matrix of a stack).
+    kernel : bool
 
     Returns
     -------
     list of tuple
-        ``(columns [n, q], vectors [n, q])`` per block group.
+        Per block group, ``(*stack, columns [n, q], vectors [n, q])``: the index of each vector's matrix
+        along each stack axis (none for one matrix), its block's columns and the vector, in the order of
+        the matrices, their blocks and the singular values.
     """
     pieces = []
     for group, values, right in decomposition:
-        ranks = np.count_nonzero(values > tolerance, axis=-1)                     # [b]
-        beyond = np.arange(right.shape[-2]) >= ranks[:, None]                     # [b, q]
-        block, row = np.nonzero(beyond if kernel else ~beyond)
-        pieces.append((group.columns[block], right[block, row]))
+        cut = np.asarray(tolerance)[..., None, None]
+        ranks = np.count_nonzero(values > cut, axis=-1)                           # [..., b]
+        beyond = np.arange(right.shape[-2]) >= ranks[..., None]                   # [..., b, q]
+        *stack, block, row = np.nonzero(beyond if kernel else ~beyond)
+        pieces.append((*stack, group.columns[block], right[(*stack, block, row)]))
     return pieces
 
 

@@ -263,6 +263,27 @@ def spatial_mix(output="pose"):
 
 # --------------------------------------------------------------------------- large mechanisms
 
+def rsur_stack(loops):
+    """`loops` spatial RSUR four-bars stacked, each hung on the coupler of the one before (R, S, U and R joints:
+    ball elements and two-axis ones, in chains as deep as the stack), the last coupler's pose the end-effector.
+    Every loop touches its own four joints only: DΦ has one 6 × 7 block per loop."""
+    joints = []
+    for index in range(1, loops + 1):
+        base = "ground" if index == 1 else f"coupler{index - 1}"
+        height, tilt = 1.0 * (index - 1), 0.1 * np.sin(index)
+        joints += [
+            Joint(f"A{index}", "R", (base, f"crank{index}"), point=(0.0, 0.0, height), axis=(tilt, 0.0, 1.0),
+                  actuated=True),
+            Joint(f"B{index}", "S", (f"crank{index}", f"coupler{index}"), point=(1.0, 0.1 + tilt, 0.3 + height)),
+            Joint(f"C{index}", "U", (f"coupler{index}", f"rocker{index}"), point=(1.6, 1.3, 0.7 + height),
+                  axes=((0.2, 1.0, 0.1 + tilt), (1.0, -0.1, 0.3))),
+            Joint(f"D{index}", "R", (f"rocker{index}", base), point=(0.4, 1.5, 0.1 + height),
+                  axis=(1.0, 0.2 + tilt, 0.1)),
+        ]
+    return Mechanism(f"RSUR stack of {loops}", "spatial", joints,
+                     end_effector=EndEffector(f"coupler{loops}", (1.2, 0.8, 0.6 + loops - 1.0), "pose"))
+
+
 def ladder(loops, tail=0):
     """A planar ladder of `loops` parallelogram four-bar loops stacked on the ground (4 joints each).
 

@@ -171,3 +171,24 @@ def test_a_point_that_is_not_finite_is_refused_on_the_block_path_as_on_the_dense
     point[3] = np.nan
     with pytest.raises(ValueError, match="non-finite"):
         function(manifold, point)
+
+
+@pytest.mark.parametrize("kernel", [True, False])
+def test_block_vectors_of_a_stack_are_each_matrix_s_to_the_bit(kernel):
+    """block_vectors of the blocks of a stack [4] of DΦ·diag(s) with a cut per matrix: per group, the vectors of
+    matrix i are those of block_vectors of matrix i alone, to the bit, with i as their stack index."""
+    rng = np.random.default_rng(36)
+    manifold, dense = linear_manifold(rng)
+    stack = dense * np.array([1.0, 1e-9, 3.0, 1.0])[:, None, None]
+    stack[3, 0] *= 1e-10  # a row of the first block below the cut in the last matrix only
+    decomposition = decompose(manifold, jacobian=stack)
+    tolerance = np.array([numerical_rank(matrix).tolerance for matrix in stack])
+    stacked = block_vectors(decomposition, tolerance, kernel)
+    for index in range(len(stack)):
+        alone = block_vectors([(group, values[index], right[index]) for group, values, right in decomposition],
+                              tolerance[index], kernel)
+        for (configurations, columns, vectors), (columns_alone, vectors_alone) in zip(stacked, alone):
+            np.testing.assert_array_equal(columns[configurations == index], columns_alone)
+            np.testing.assert_array_equal(vectors[configurations == index], vectors_alone)
+    counts = sum(np.bincount(configurations, minlength=len(stack)) for configurations, _, _ in stacked)
+    assert counts[3] != counts[0]  # the cuts differ: the last matrix's first block has one value less above it

@@ -10,13 +10,14 @@ of three-angle parametrisations.
 import numpy as np
 import pytest
 
-from builders import bennett, five_bar, five_bar_positions, ladder, rsur, spatial_mix, spherical_four_bar
+from builders import (bennett, five_bar, five_bar_positions, ladder, rsur, rsur_stack, spatial_mix,
+                      spherical_four_bar)
 from mechanisms.catalogue import entry
 from mechanisms.catalogue.slider_crank import slider_crank
 from mechanisms.kinematics import _nearest_point, loop_origin
 from manifold import ImplicitManifold, ProjectionError, numerical_rank, project, rotation_exp, tangent_basis
 from mechanisms import (
-    EndEffector, Joint, Mechanism, closes, configuration_space, constraint, constraint_hessian, constraint_jacobian,
+    EndEffector, Mechanism, closes, configuration_space, constraint, constraint_hessian, constraint_jacobian,
     end_effector, end_effector_chart, end_effector_hessian, end_effector_jacobian, home, kinematics_of,
 )
 
@@ -387,24 +388,6 @@ def test_the_prefix_tree_of_planar_chains_gives_their_products(name):
                                    atol=1e-13 * size)
     single = chains.planar_tree_products(tree, points[1])
     np.testing.assert_array_equal(single[0], rotations[1])
-
-
-def rsur_stack(loops):
-    """`loops` RSUR four-bars stacked, each on the last one's coupler (R, S, U and R joints: ball elements and
-    two-axis ones in chains as deep as the stack), the last coupler's pose the end-effector."""
-    joints = []
-    for index in range(1, loops + 1):
-        base, height, tilt = ("ground" if index == 1 else f"coupler{index - 1}"), index - 1.0, 0.1 * np.sin(index)
-        joints += [
-            Joint(f"A{index}", "R", (base, f"crank{index}"), point=(0.0, 0.0, height), axis=(tilt, 0.0, 1.0),
-                  actuated=True),
-            Joint(f"B{index}", "S", (f"crank{index}", f"coupler{index}"), point=(1.0, 0.1 + tilt, 0.3 + height)),
-            Joint(f"C{index}", "U", (f"coupler{index}", f"rocker{index}"), point=(1.6, 1.3, 0.7 + height),
-                  axes=((0.2, 1.0, 0.1 + tilt), (1.0, -0.1, 0.3))),
-            Joint(f"D{index}", "R", (f"rocker{index}", base), point=(0.4, 1.5, 0.1 + height),
-                  axis=(1.0, 0.2 + tilt, 0.1))]
-    return Mechanism(f"RSUR stack of {loops}", "spatial", joints,
-                     end_effector=EndEffector(f"coupler{loops}", (1.2, 0.8, 0.6 + loops - 1.0), "pose"))
 
 
 MATRIX_TREE_MECHANISMS = {
