@@ -12,6 +12,7 @@ survey within a test process. Nothing is lost: a classification is a
 deterministic function of the description (the survey's seed is fixed).
 """
 
+import tracemalloc
 from pathlib import Path
 
 import numpy as np
@@ -309,6 +310,17 @@ def ladder(loops, tail=0):
         link = f"tail{index}"
     name = f"ladder of {loops}" if not tail else f"ladder of {loops} loops and {tail} tail joints"
     return Mechanism(name, "planar", joints, end_effector=EndEffector(link, point=(0.5, float(loops + tail))))
+
+
+def traced_peak(function, *arguments):
+    """(result, peak bytes allocated while `function` ran), by tracemalloc (NumPy arrays included)."""
+    tracemalloc.start()
+    try:
+        tracemalloc.reset_peak()
+        result = function(*arguments)
+        return result, tracemalloc.get_traced_memory()[1]
+    finally:
+        tracemalloc.stop()
 
 
 # --------------------------------------------------------------------------- robot files

@@ -10,10 +10,9 @@ size check that allows 1 GiB. The prefix tree is grown link by link along the
 spanning tree instead (:func:`mechanisms._chains.prefix_tree`): a node per joint.
 """
 
-import tracemalloc
-
 import numpy as np
 
+from builders import traced_peak
 from mechanisms import EndEffector, Joint, Mechanism, home, kinematics_of
 from mechanisms import _chains as chains
 from mechanisms.kinematics import _reference_plan, end_effector_jacobian, end_effector_reference
@@ -32,17 +31,6 @@ def serial_chain(count, space="planar"):
                     axis=(0.0, np.sin(index), np.cos(index))) for index in range(count)]
     return Mechanism(f"serial {count}", space, joints,
                      end_effector=EndEffector(links[-1], (0.01 * count, 0.0, 0.0), "pose"))
-
-
-def traced_peak(function, *arguments):
-    """(result, peak bytes allocated while `function` ran), by tracemalloc (NumPy arrays included)."""
-    tracemalloc.start()
-    try:
-        tracemalloc.reset_peak()
-        result = function(*arguments)
-        return result, tracemalloc.get_traced_memory()[1]
-    finally:
-        tracemalloc.stop()
 
 
 def test_the_reference_plan_of_a_long_planar_serial_chain_is_linear_in_its_joints():

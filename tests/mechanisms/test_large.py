@@ -9,12 +9,11 @@ tracemalloc (no c×k×k or k×k×c array), and a mechanism whose tangent bases
 alone exceed the limit is refused naming the field.
 """
 
-import tracemalloc
-
 import numpy as np
 import pytest
 
-from builders import bennett, five_bar, five_bar_positions, ladder, rsur, spatial_mix, spherical_four_bar
+from builders import (bennett, five_bar, five_bar_positions, ladder, rsur, spatial_mix, spherical_four_bar,
+                      traced_peak)
 from manifold import AmbientSpace, ImplicitManifold, ProjectionError, numerical_rank, project, tangent_basis
 from manifold import implicit
 from manifold.implicit import (
@@ -47,17 +46,6 @@ SMALL = {
 }
 
 LADDER = ladder(100)
-
-
-def traced_peak(function, *arguments):
-    """(result, peak bytes allocated while `function` ran), by tracemalloc (NumPy arrays included)."""
-    tracemalloc.start()
-    try:
-        tracemalloc.reset_peak()
-        result = function(*arguments)
-        return result, tracemalloc.get_traced_memory()[1]
-    finally:
-        tracemalloc.stop()
 
 
 def projector(basis, scales):
