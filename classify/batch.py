@@ -31,7 +31,8 @@ sparsity of :mod:`manifold.implicit`) is taken block by block here too: the bloc
 shape of every configuration of a chunk in one batched SVD, whose values are
 DΦ's and whose vectors give the tangent bases as :func:`manifold.tangent_basis`
 does (:func:`manifold.blocks.decompose`), with no SVD of the c × k DΦ and no k × k
-orthogonal factor; actuators that are coordinate rows (a joint-graph
+orthogonal factor, nor the dense DΦ itself (its blocks come from its entries:
+:func:`mechanisms.closure_and_entries`); actuators that are coordinate rows (a joint-graph
 mechanism's) make the a × m actuator block block diagonal as well, and its
 values are its blocks' (:func:`_block_singular_values`). The stack goes in chunks of about the same memory for
 every mechanism (:func:`default_chunk`), in threads with ``workers``.
@@ -61,8 +62,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from manifold import DEFAULT_ATOL, DEFAULT_RTOL, check_rtol, handled_by_blocks, implicit, tangent_extents
-from manifold.blocks import block_vectors, decompose, union_of_values
-from mechanisms import CLOSURE_TOLERANCE, ConfigurationError, Mechanism, closure_and_jacobian
+from manifold.blocks import block_vectors, union_of_values
+from mechanisms import CLOSURE_TOLERANCE, ConfigurationError, Mechanism, closure_and_entries, closure_and_jacobian
 from mechanisms.kinematics import rotation_blocks
 from mechanisms.mechanism import dense_memory_estimate
 
@@ -313,13 +314,31 @@ def default_chunk(model):
     c × k, and the tangent bases, k × (k − c), as :func:`mechanisms.mechanism.dense_memory_estimate` counts them)
     within :data:`manifold.implicit.CHUNK_ENTRIES` floats (8 MiB), at least one configuration.
 
+    A mechanism whose DΦ is taken block by block (:func:`manifold.handled_by_blocks`) has no dense DΦ here:
+    its entries, its blocks and their right singular vectors (:func:`_block_entry_count`) count instead of
+    c × k, beside the same four tangent bases.
+
     So a chunk takes about the same memory whatever the mechanism: it holds
     19,065 configurations of the five-bar (DΦ 3 × 5), 539 of the
-    Gough–Stewart (30 × 36), 3 of a ladder of 100 four-bar loops (300 × 400),
+    Gough–Stewart (30 × 36), 6 of a ladder of 100 four-bar loops (k = 400, 100 blocks 3 × 4),
     7,281 of a serial 6R arm (no DΦ, but 6 × 6 tangent bases).
     """
-    per_configuration = dense_memory_estimate(model.manifold.ambient.dim, model.constraint_rows) // 8
+    coordinates, rows = model.manifold.ambient.dim, model.constraint_rows
+    per_configuration = dense_memory_estimate(coordinates, rows) // 8
+    if handled_by_blocks(model.manifold):
+        per_configuration += _block_entry_count(model.manifold.pattern) - rows * coordinates
     return max(1, implicit.CHUNK_ENTRIES // max(1, per_configuration))
+
+
+def _block_entry_count(pattern):
+    """Floats of one configuration's DΦ taken block by block (:func:`_block_decomposition`): its entries and
+    their padded copy (2 nnz), and for every block (r × q) its matrix, singular values and Vᴴ:
+    ``2 nnz + Σ (r q + min(r, q) + q²)``."""
+    total = 2 * pattern.nnz
+    for group in pattern.blocks:
+        count, rows, columns = group.positions.shape
+        total += count * (rows * columns + min(rows, columns) + columns * columns)
+    return total
 
 
 def _decisions(values, tolerance):
@@ -333,12 +352,13 @@ def _decisions(values, tolerance):
     return ranks, margins
 
 
-def _closure_and_jacobian(model, points, offset):
-    """DΦ·diag(s) of a chunk, shape=[b, c, k], after checking that every configuration closes its loops
-    (as :func:`classify.classify`: |Φ| ≤ the closure tolerance and a point of M, not a spurious zero).
+def _closure_and_jacobian(model, points, offset, entries=False):
+    """DΦ·diag(s) of a chunk, shape=[b, c, k], or with `entries` DΦ's entries at the manifold's pattern,
+    shape=[b, nnz] (unscaled: :func:`_block_decomposition`), after checking that every configuration closes
+    its loops (as :func:`classify.classify`: |Φ| ≤ the closure tolerance and a point of M, not a spurious zero).
 
     For a joint-graph mechanism Φ, the half-turn test and DΦ come from one expansion of each loop
-    (:func:`mechanisms.closure_and_jacobian`).
+    (:func:`mechanisms.closure_and_jacobian`, :func:`mechanisms.closure_and_entries`).
 
     Raises
     ------
@@ -347,7 +367,7 @@ def _closure_and_jacobian(model, points, offset):
     """
     manifold = model.manifold
     if model.mechanism is not None:
-        rows, turns, jacobian = closure_and_jacobian(model.mechanism, points)
+        rows, turns, jacobian = (closure_and_entries if entries else closure_and_jacobian)(model.mechanism, points)
         residuals = np.linalg.norm(rows, axis=-1)
         turns = turns & np.all(rotation_blocks(model.mechanism, points)[1], axis=-1)  # as classify's closes
     else:
@@ -355,7 +375,7 @@ def _closure_and_jacobian(model, points, offset):
         turns = np.ones(len(points), dtype=bool)
         if manifold.is_solution is not None and not manifold.is_solution(points):
             turns = np.array([bool(manifold.is_solution(point)) for point in points])
-        jacobian = manifold.constraint_jacobian(points)
+        jacobian = (manifold.constraint_jacobian_entries if entries else manifold.constraint_jacobian)(points)
     # at the tolerance, the stack's rounding must not decide: classify's own arithmetic, one at a time
     for index in np.flatnonzero(np.abs(residuals - CLOSURE_TOLERANCE) <= CLOSURE_BAND * CLOSURE_TOLERANCE):
         residuals[index], turns[index] = closure_of(model, points[index])
@@ -364,7 +384,30 @@ def _closure_and_jacobian(model, points, offset):
         index = int(bad[0])
         raise ConfigurationError(not_on_m(model, points[index], residuals[index], f"configuration {offset + index}",
                                           ":"))
+    if entries:
+        return np.asarray(jacobian, dtype=float)
     return np.asarray(jacobian, dtype=float) * manifold.ambient.tangent_scales
+
+
+def _block_decomposition(manifold, entries):
+    """:func:`manifold.blocks.decompose` of a chunk's DΦ·diag(s) from DΦ's entries at the pattern (shape=[b, nnz],
+    :func:`_closure_and_jacobian`), without the dense c × k matrices: block i of a group is
+    ``padded_entries[positions[i]]·diag(s[columns[i]])`` (:class:`manifold.blocks.BlockGroup`, a zero off the
+    pattern), the same numbers as the dense matrices' blocks.
+
+    Returns
+    -------
+    list of tuple
+        ``(block group, singular values [b, blocks, min(r, q)], Vᴴ [b, blocks, q, q])`` per block group.
+    """
+    padded = np.concatenate([entries, np.zeros((len(entries), 1))], axis=-1)
+    scales = manifold.ambient.tangent_scales
+    decomposed = []
+    for group in manifold.pattern.blocks:
+        _, values, right = np.linalg.svd(padded[:, group.positions] * scales[group.columns][:, None, :],
+                                         full_matrices=True)
+        decomposed.append((group, values, right))
+    return decomposed
 
 
 def _first_order(model, points, survey, rtol, offset, columns=None):
@@ -372,16 +415,19 @@ def _first_order(model, points, survey, rtol, offset, columns=None):
     written into `columns` (views of the whole stack's, :func:`_rows_of`) when given.
 
     The rank of DΦ·diag(s) and the tangent bases come from its blocks where the single call takes them so
-    (:func:`manifold.implicit.handled_by_blocks`: :func:`manifold.blocks.decompose`), else from the dense
-    matrices."""
-    jacobian = _closure_and_jacobian(model, points, offset)
+    (:func:`manifold.implicit.handled_by_blocks`: :func:`_block_decomposition`, from DΦ's entries), else from
+    the dense matrices."""
     count = len(points)
     scales = model.manifold.ambient.tangent_scales
-    decomposition = decompose(model.manifold, jacobian=jacobian) if handled_by_blocks(model.manifold) else None
-    if decomposition is None:
-        constraint_values, constraint_tolerance = _constraint_values(jacobian, rtol)
+    if handled_by_blocks(model.manifold):  # no dense c × k DΦ: its blocks from its entries
+        jacobian = None
+        shape = (count,) + model.manifold.pattern.shape
+        decomposition = _block_decomposition(model.manifold, _closure_and_jacobian(model, points, offset, True))
+        constraint_values, constraint_tolerance = _block_constraint_values(decomposition, shape, rtol)
     else:
-        constraint_values, constraint_tolerance = _block_constraint_values(decomposition, jacobian.shape, rtol)
+        jacobian = _closure_and_jacobian(model, points, offset)
+        shape, decomposition = jacobian.shape, None
+        constraint_values, constraint_tolerance = _constraint_values(jacobian, rtol)
     constraint_ranks, constraint_margins = _decisions(constraint_values, constraint_tolerance)
     largest = constraint_values[:, 0] if constraint_values.shape[1] else np.zeros(count)  # σ₁(DΦ·s)
     # below the survey's largest rank of DΦ: a possible C-space singularity; or where the arithmetic cannot
@@ -404,7 +450,7 @@ def _first_order(model, points, survey, rtol, offset, columns=None):
             basis = _block_kernel_bases(decomposition, group, constraint_tolerance[group], model.manifold,
                                         int(rank))
             amplification = np.ones(len(group))
-        if rank < jacobian.shape[-2] and rank < jacobian.shape[-1]:
+        if rank < shape[-2] and rank < shape[-1]:
             # DΦ short of its rows (an overconstrained chain): M may extend along fewer directions than ker DΦ
             # (an infinitesimal flex of a structure, manifold.tangent_extent): those are classified one at a time
             flexed = tangent_extents(model.manifold, points[group], scales[:, None] * basis) < basis.shape[-1]
@@ -531,7 +577,7 @@ def _block_constraint_values(decomposition, shape, rtol):
     Parameters
     ----------
     decomposition : list of tuple
-        From :func:`manifold.blocks.decompose` of the chunk's DΦ·diag(s).
+        :func:`_block_decomposition` of the chunk's DΦ·diag(s).
     shape : tuple of int
         ``(b, c, k)``: the chunk's DΦ.
     rtol : float
@@ -551,7 +597,7 @@ def _block_kernel_bases(decomposition, selection, tolerance, manifold, rank):
     Parameters
     ----------
     decomposition : list of tuple
-        From :func:`manifold.blocks.decompose` of the chunk's DΦ·diag(s).
+        :func:`_block_decomposition` of the chunk's DΦ·diag(s).
     selection : ndarray of int, shape=[g]
         Configurations of the chunk, all with the same rank of DΦ·diag(s).
     tolerance : ndarray, shape=[g]

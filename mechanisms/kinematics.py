@@ -68,7 +68,8 @@ from .joints import joint_factors
 
 __all__ = [
     "Kinematics", "kinematics_of", "configuration_space",
-    "constraint", "constraint_jacobian", "closure_and_jacobian", "constraint_hessian", "closes", "closure_failure",
+    "constraint", "constraint_jacobian", "closure_and_jacobian", "closure_and_entries", "constraint_hessian", "closes",
+    "closure_failure",
     "constraint_pattern", "constraint_jacobian_entries", "constraint_hessian_form",
     "end_effector", "end_effector_jacobian", "end_effector_reference", "end_effector_hessian",
     "end_effector_chart",
@@ -427,6 +428,7 @@ def closure_and_jacobian(mechanism, point):
     What :func:`constraint`, :func:`closes` (its half-turn test) and
     :func:`constraint_jacobian` compute, for the price of one: the loop
     products are the last prefix products of the first-order expansion.
+    DΦ is :func:`closure_and_entries`'s entries at :func:`constraint_pattern`, densely.
 
     Parameters
     ----------
@@ -443,12 +445,33 @@ def closure_and_jacobian(mechanism, point):
     jacobian : ndarray, shape=[..., c, k]
         DΦ, as :func:`constraint_jacobian`.
     """
+    rows, turns, entries = closure_and_entries(mechanism, point)
+    return rows, turns, kinematics_of(mechanism).pattern.dense(entries)
+
+
+def closure_and_entries(mechanism, point):
+    """Φ(point), whether no loop is a half-turn, and DΦ(point)'s entries at :func:`constraint_pattern`, from one
+    expansion of each loop: :func:`closure_and_jacobian` without the dense c × k matrices (a large mechanism's
+    DΦ has a few entries per row).
+
+    Parameters
+    ----------
+    mechanism : Mechanism
+    point : array_like, shape=[..., point_size]
+
+    Returns
+    -------
+    rows : ndarray, shape=[..., c]
+        Φ, as :func:`constraint`.
+    turns : ndarray of bool, shape=[...]
+        Whether every loop's rotation is the identity rather than a half-turn, as in :func:`closes`.
+    entries : ndarray, shape=[..., nnz]
+        DΦ's entries in the pattern's order, as :func:`constraint_jacobian_entries`.
+    """
     compiled = kinematics_of(mechanism)
     point = _as_points(mechanism, point)
-    pattern = compiled.pattern
     if compiled.space == "planar":
-        rows, turns, entries = _planar_closure(compiled, point, 1)
-        return rows, turns, pattern.dense(entries)
+        return _planar_closure(compiled, point, 1)
     size = groups.MATRIX_SIZE[compiled.space]
     products = np.zeros(point.shape[:-1] + (len(compiled.loops), size, size))
     entries = []
@@ -459,7 +482,7 @@ def closure_and_jacobian(mechanism, point):
     entries = np.concatenate(entries, axis=-1) if entries else np.zeros(point.shape[:-1] + (0,))
     rows = _flattened(groups.loop_rows(compiled.space, products, compiled.length), point.shape[:-1])
     turns = np.all(groups.is_identity_rotation(compiled.space, products), axis=-1)
-    return rows, turns, pattern.dense(entries)
+    return rows, turns, entries
 
 
 def constraint_hessian(mechanism, point):

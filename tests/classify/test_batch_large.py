@@ -3,9 +3,9 @@
 :func:`classify.classify` takes the rank of DΦ·diag(s) and the tangent basis
 block by block once the manifold has a pattern and k ≥ BLOCK_THRESHOLD
 (:func:`manifold.tangent_basis`); :func:`classify.classify_many` does the same
-over a whole chunk (one batched SVD per shape of block), so it neither
-decomposes the dense c × k DΦ nor forms a k × k orthogonal factor, and it
-equals the single calls item by item. The mechanisms are planar ladders of
+over a whole chunk (one batched SVD per shape of block, the blocks taken from
+DΦ's entries), so it neither forms nor decomposes the dense c × k DΦ nor forms
+a k × k orthogonal factor, and it equals the single calls item by item. The mechanisms are planar ladders of
 parallelogram loops (:func:`builders.ladder`: one 3 × 4 block of DΦ per loop),
 whose loops own more columns than rows (no block-arrow form).
 """
@@ -105,9 +105,9 @@ def test_the_kernel_bases_are_the_single_calls_block_by_block():
     manifold = model.manifold
     points = np.stack([from_displacements(mechanism, _flattened(1)), from_displacements(mechanism, _flattened(2)),
                        from_displacements(mechanism, {**_loop_turned(4, 0.3), "T1": 0.2})])
-    jacobian = manifold.constraint_jacobian(points) * manifold.ambient.tangent_scales
-    decomposition = decompose(manifold, jacobian=jacobian)
-    values, tolerance = batch_module._block_constraint_values(decomposition, jacobian.shape, 1e-6)
+    decomposition = batch_module._block_decomposition(manifold, manifold.constraint_jacobian_entries(points))
+    values, tolerance = batch_module._block_constraint_values(decomposition, (len(points),) + manifold.pattern.shape,
+                                                              1e-6)
     expected = [tangent_basis(manifold, point) for point in points]
     for index, (basis, decision) in enumerate(expected):
         np.testing.assert_array_equal(values[index], decision.singular_values)
@@ -187,9 +187,8 @@ def test_the_actuator_rows_on_the_tangent_bases_are_decomposed_block_by_block(mo
     model = model_of(mechanism)
     manifold = model.manifold
     points = _configurations(mechanism, model, seed=5, count=4)[:-1]  # regular
-    jacobian = manifold.constraint_jacobian(points) * manifold.ambient.tangent_scales
-    decomposition = decompose(manifold, jacobian=jacobian)
-    _, tolerance = batch_module._block_constraint_values(decomposition, jacobian.shape, 1e-6)
+    decomposition = batch_module._block_decomposition(manifold, manifold.constraint_jacobian_entries(points))
+    _, tolerance = batch_module._block_constraint_values(decomposition, (len(points),) + manifold.pattern.shape, 1e-6)
     rank = model.constraint_rows
     bases = manifold.ambient.tangent_scales[:, None] * batch_module._block_kernel_bases(
         decomposition, np.arange(len(points)), tolerance, manifold, rank)
