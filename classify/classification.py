@@ -41,7 +41,8 @@ from .metrics import manipulability, moving_directions
 from .model import model_of
 from .report import KindResult, Report
 from .second_order import idle_slice, second_order_test
-from .survey import decision_blocks, freedom_rows, stacked, survey_of, unit_actuator_rows
+from .survey import actuator_decision as decide_actuator, decision_blocks, freedom_rows, rows_on, stacked, survey_of, \
+    unit_actuator_rows
 
 __all__ = ["classify"]
 
@@ -152,12 +153,13 @@ def classify(mechanism, point, survey=None, rng=None, rtol=DEFAULT_RTOL, length_
     # actuator: G = (E^½ T)ᵀ(E^½ T), decided on the unit actuator rows (weights and units do not matter)
     blocks = decision_blocks(model, point, basis)
     actuator_block, actuator_scale, end_effector_block, end_effector_scale = blocks
-    actuator_decision = numerical_rank(actuator_block, rtol=rtol, scale=actuator_scale)
+    actuator_decision = decide_actuator(model, actuator_block, basis, actuator_scale, rtol=rtol)
     n = model.end_effector_dimension
     end_effector_decision = numerical_rank(end_effector_block, rtol=rtol, scale=end_effector_scale) if n else None
     if not cspace_singular:  # at a C-space singularity ker DΦ(p) is larger than the tangent spaces of M
         survey = _including_point(survey, constraint_decision.rank, actuator_decision, end_effector_decision,
-                                  lambda: numerical_rank(stacked(*blocks), rtol=rtol, scale=1.0))
+                                  lambda: numerical_rank(stacked(*blocks), rtol=rtol, scale=1.0),
+                                  len(model.actuators) + n, basis.shape[1])
     else:  # DΦ's rank still proves what M reaches (a flex where the survey missed a larger rank)
         survey = survey.including(constraint_decision.rank)
     idle = survey.idle_freedoms(dof)
@@ -193,7 +195,8 @@ def classify(mechanism, point, survey=None, rng=None, rtol=DEFAULT_RTOL, length_
         motions = basis if not idle else basis @ moving_directions(stacked(*blocks), moves)
         # as many λ's as J has rank on M (at least one: 0 for an end-effector that never moves): a direction the
         # end-effector never moves (a planar mechanism written in space: z) would add a λ = 0 everywhere
-        proper = manipulability(model.actuators @ motions, model.end_effector_jacobian(point) @ motions,
+        proper = manipulability(rows_on(model, "actuators", model.actuators, motions),
+                                model.end_effector_jacobian(point) @ motions,
                                 model.end_effector_metric, max(1, min(end_effector.expected_rank, moves)),
                                 rank=end_effector.rank)
 
@@ -329,12 +332,18 @@ def _distance_bound(residual, decision):
     return 0.0 if kept is None or not residual else residual / kept
 
 
-def _including_point(survey, constraint_rank, actuator_decision, end_effector_decision, joint_decision):
+def _including_point(survey, constraint_rank, actuator_decision, end_effector_decision, joint_decision, rows,
+                     columns):
     """The survey raised to the ranks at p (:meth:`Survey.including`); the stacked map's rank
-    (`joint_decision()`, a callable) is computed only where an end-effector makes it count."""
+    (`joint_decision()`, a callable; the map is `rows` × `columns`) is computed only where an end-effector makes
+    it count and it could raise the survey's: not where DΦ has the survey's rank and the survey's joint rank
+    already is ``min(rows, columns)``, which no rank of the map exceeds."""
     if constraint_rank < survey.constraint_rank:
         return survey
     if end_effector_decision is None:
         return survey.including(constraint_rank, actuator_decision.rank)
+    if constraint_rank == survey.constraint_rank and survey.joint_rank is not None \
+            and survey.joint_rank >= min(rows, columns):
+        return survey.including(constraint_rank, actuator_decision.rank, end_effector_decision.rank, None)
     return survey.including(constraint_rank, actuator_decision.rank, end_effector_decision.rank,
                             joint_decision().rank)

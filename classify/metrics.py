@@ -34,7 +34,8 @@ LENGTH_SCALE_RATIO = 1e6
 __all__ = [
     "actuator_metric", "weighted_actuator_jacobian", "end_effector_metric",
     "metric_root", "pullback_metric", "Manipulability", "manipulability",
-    "unit_rows", "largest_singular_value", "proper_values", "singular_values", "jacobi_singular_values",
+    "unit_rows", "largest_singular_value", "coordinate_rows", "coordinate_singular_values", "proper_values",
+    "singular_values", "jacobi_singular_values",
     "moving_directions",
 ]
 
@@ -81,6 +82,60 @@ def unit_rows(matrix, scales):
 def largest_singular_value(matrix):
     """σ₁ of a matrix (0 for an empty one): the reference scale of a restricted map's rank."""
     return float(np.linalg.norm(matrix, 2)) if np.size(matrix) else 0.0
+
+
+def coordinate_rows(matrix):
+    """Where every row of a matrix has exactly one nonzero entry (an actuated joint's rate, as the actuators of a
+    joint-graph mechanism), that entry's column and value; else None.
+
+    Parameters
+    ----------
+    matrix : ndarray, shape=[a, k]
+
+    Returns
+    -------
+    tuple or None
+        ``(columns [a], factors [a])``: row i is ``factors[i]`` times the unit row at ``columns[i]``.
+    """
+    matrix = np.asarray(matrix, dtype=float)
+    nonzero = matrix != 0.0
+    if matrix.ndim != 2 or not np.all(np.count_nonzero(nonzero, axis=1) == 1):
+        return None
+    columns = np.argmax(nonzero, axis=1)
+    return columns, matrix[np.arange(len(matrix)), columns]
+
+
+def coordinate_singular_values(columns, factors):
+    """Singular values of the matrix M whose row i is ``factors[i]`` times the unit row at ``columns[i]``
+    (:func:`coordinate_rows`), descending, one per distinct column: the norms of M's nonzero columns.
+
+    MᵀM is diagonal, ``(MᵀM)ⱼⱼ = Σ_{i: columns[i] = j} factors[i]²`` (rows at distinct columns are
+    orthogonal), so σⱼ = ‖M e_j‖. Each column's norm is taken over its largest factor, which neither
+    overflows nor underflows.
+
+    Parameters
+    ----------
+    columns : ndarray of int, shape=[a]
+    factors : ndarray, shape=[a]
+
+    Returns
+    -------
+    ndarray, shape=[distinct columns]
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from classify.metrics import coordinate_singular_values
+    >>> coordinate_singular_values(np.array([2, 0, 2]), np.array([3.0, -1.0, 4.0])).tolist()
+    [5.0, 1.0]
+    """
+    distinct, which = np.unique(columns, return_inverse=True)
+    magnitudes = np.abs(np.asarray(factors, dtype=float))
+    largest = np.zeros(len(distinct))
+    np.maximum.at(largest, which, magnitudes)
+    size = np.where(largest > 0, largest, 1.0)
+    values = size * np.sqrt(np.bincount(which, weights=(magnitudes / size[which]) ** 2, minlength=len(distinct)))
+    return -np.sort(-values)
 
 
 def end_effector_metric(mechanism, length_scale=None):

@@ -19,12 +19,17 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from manifold import DEFAULT_RTOL, jacobian_rank, numerical_rank, sample_manifold, tangent_basis, tangent_extent
+from manifold import (
+    DEFAULT_RTOL, handled_by_blocks, jacobian_rank, numerical_rank, rank_of_values, sample_manifold, tangent_basis,
+    tangent_extent,
+)
+from manifold.blocks import labelled_block_singular_values
 
-from .metrics import largest_singular_value, metric_root, unit_rows
+from .metrics import coordinate_rows, coordinate_singular_values, largest_singular_value, metric_root, unit_rows
 from .model import cached
 
-__all__ = ["Survey", "survey", "survey_of", "decision_rows", "decision_blocks", "freedom_rows", "stacked", "unit_actuator_rows", "SURVEY_SEED"]
+__all__ = ["Survey", "survey", "survey_of", "decision_rows", "decision_blocks", "actuator_decision", "freedom_rows",
+           "stacked", "unit_actuator_rows", "model_coordinate_rows", "rows_on", "SURVEY_SEED"]
 
 #: seed of the survey a model keeps (:func:`survey_of`): the same survey in every call and process
 SURVEY_SEED = 0
@@ -264,6 +269,10 @@ def unit_actuator_rows(model):
     """``unit_rows(E^½ Dπ)`` of a model and σ₁ of those rows·diag(s): constants of the model, computed
     once and kept in ``model.cache``.
 
+    For a manifold handled block by block (:func:`manifold.handled_by_blocks`) whose actuators are
+    coordinate rows (:func:`classify.metrics.coordinate_rows`), σ₁ is the largest column norm of the rows·diag(s)
+    (:func:`classify.metrics.coordinate_singular_values`), without an SVD of the a × k rows.
+
     Returns
     -------
     rows : ndarray, shape=[a, k]
@@ -272,17 +281,87 @@ def unit_actuator_rows(model):
     def compute():
         scales = model.manifold.ambient.tangent_scales
         rows = unit_rows(model.actuators, scales)
-        return rows, largest_singular_value(rows * scales)
+        coordinates = coordinate_rows(rows) if handled_by_blocks(model.manifold) else None
+        if coordinates is None:
+            return rows, largest_singular_value(rows * scales)
+        columns, factors = coordinates
+        values = coordinate_singular_values(columns, factors * scales[columns])
+        return rows, float(values[0]) if len(values) else 0.0
 
     return cached(model, "unit_actuator_rows", compute)
+
+
+def model_coordinate_rows(model, name, matrix):
+    """:func:`classify.metrics.coordinate_rows` of `matrix`, a constant of the model named `name` (e.g.
+    ``"actuators"``, ``"unit_actuator_rows"``), kept in ``model.cache``: ``(columns [a], factors [a])`` or None."""
+    return cached(model, ("coordinate_rows", name), lambda: coordinate_rows(matrix) or ()) or None
+
+
+def rows_on(model, name, matrix, basis):
+    """``matrix @ basis`` (shape=[a, k] and [..., k, m]) for `matrix` a constant of the model named `name`,
+    shape=[..., a, m]: where its rows are coordinate rows (:func:`model_coordinate_rows`), the basis's rows at
+    their columns times their factors, the same numbers (one nonzero term per entry) without the a·k·m
+    products."""
+    coordinates = model_coordinate_rows(model, name, matrix)
+    if coordinates is None:
+        return matrix @ basis
+    columns, factors = coordinates
+    return factors[:, None] * basis[..., columns, :]
 
 
 def decision_blocks(model, point, basis):
     """:func:`decision_rows` restricted to a tangent basis (from :func:`manifold.tangent_basis`): the
     blocks ``[a, m]`` and ``[n, m]`` (None without end-effector) with the same scales."""
     actuator, actuator_scale, end_effector, end_effector_scale = decision_rows(model, point)
-    return (actuator @ basis, actuator_scale, None if end_effector is None else end_effector @ basis,
-            end_effector_scale)
+    return (rows_on(model, "unit_actuator_rows", actuator, basis), actuator_scale,
+            None if end_effector is None else end_effector @ basis, end_effector_scale)
+
+
+def actuator_decision(model, block, basis, scale, rtol=DEFAULT_RTOL):
+    """The rank decision of the actuator block ``unit_rows(E^½ Dπ)·T`` (:func:`decision_blocks`), as
+    ``numerical_rank(block, rtol, scale=scale)``.
+
+    Where the manifold is handled block by block, the actuators are coordinate rows and every column of the
+    basis T lies on one component of DΦ's pattern (a block or a free column, as :func:`manifold.tangent_basis`
+    gives it there), the block is block diagonal after permuting rows and columns, and its singular values
+    are its blocks' (:func:`manifold.blocks.labelled_block_singular_values`): no SVD of the a × m block.
+
+    Parameters
+    ----------
+    model : Model
+    block : ndarray, shape=[a, m]
+    basis : ndarray, shape=[k, m]
+    scale : float
+        σ₁ of the unit actuator rows·diag(s) (:func:`unit_actuator_rows`).
+    rtol : float
+
+    Returns
+    -------
+    RankDecision
+    """
+    labels = _actuator_labels(model, basis)
+    if labels is None:
+        return numerical_rank(block, rtol=rtol, scale=scale)
+    values = labelled_block_singular_values(block[None], *labels)[0]
+    return rank_of_values(values, rtol=rtol, scale=scale)
+
+
+def _actuator_labels(model, basis):
+    """The components of DΦ's pattern (:attr:`manifold.blocks.JacobianPattern.column_components`) of the actuated
+    coordinates [a] and of the basis's columns [m], when the actuator block on `basis` is block diagonal by them
+    (:func:`actuator_decision`); else None."""
+    manifold = model.manifold
+    if not handled_by_blocks(manifold):
+        return None
+    coordinates = model_coordinate_rows(model, "unit_actuator_rows", unit_actuator_rows(model)[0])
+    if coordinates is None:
+        return None
+    components = manifold.pattern.column_components
+    support = basis != 0.0
+    column_labels = components[np.argmax(support, axis=0)]
+    if np.any(support & (components[:, None] != column_labels)):
+        return None
+    return components[coordinates[0]], column_labels
 
 
 def stacked(actuator, actuator_scale, end_effector, end_effector_scale):
@@ -350,7 +429,7 @@ def survey(model, rng, starts=None, random_count=24, walk_count=24, rtol=DEFAULT
             basis = extent.moving
         blocks = decision_blocks(model, point, basis)
         actuator, actuator_scale, end_effector, end_effector_scale = blocks
-        here = {"actuator": numerical_rank(actuator, rtol=rtol, scale=actuator_scale)}
+        here = {"actuator": actuator_decision(model, actuator, basis, actuator_scale, rtol=rtol)}
         if end_effector is not None:
             here["end_effector"] = numerical_rank(end_effector, rtol=rtol, scale=end_effector_scale)
             here["joint"] = numerical_rank(stacked(*blocks), rtol=rtol, scale=1.0)

@@ -26,7 +26,7 @@ from .rank import numerical_rank, rank_of_values
 __all__ = [
     "BlockGroup", "JacobianPattern", "PseudoInverse", "scaled_blocks", "decompose", "block_rank",
     "block_vectors", "dense_basis", "sparse_basis", "pseudo_inverse", "apply_pseudo_inverse", "cap_block_steps",
-    "minimum_norm_solutions", "stacked_singular_values", "union_of_values",
+    "minimum_norm_solutions", "stacked_singular_values", "union_of_values", "labelled_block_singular_values",
 ]
 
 
@@ -146,6 +146,18 @@ class JacobianPattern:
                                      np.array([columns_of[label] for label in labels], dtype=np.intp),
                                      positions))
         return tuple(groups)
+
+    @cached_property
+    def column_components(self):
+        """The component of the pattern each column belongs to, shape=[k]: its block's number (the blocks
+        numbered group by group, in the order of :attr:`blocks`), or a number of its own for a free column."""
+        labels = np.empty(self.shape[1], dtype=np.intp)
+        start = 0
+        for group in self.blocks:
+            labels[group.columns] = start + np.arange(len(group.columns))[:, None]
+            start += len(group.columns)
+        labels[self.free_columns] = start + np.arange(len(self.free_columns))
+        return labels
 
     @cached_property
     def free_columns(self):
@@ -487,3 +499,90 @@ def minimum_norm_solutions(pattern, entries, scales, right_hand_side, rcond, spa
             inverse = PseudoInverse(pattern.shape, (), ((group, blocks[index]),), rcond)
             solutions[index] += apply_pseudo_inverse(inverse, right_hand_side[index])
     return solutions
+
+
+def labelled_block_singular_values(matrices, row_labels, column_labels, singular_values=None):
+    """Singular values of a stack of matrices that are block diagonal after permuting rows and columns, the
+    blocks given by labels, descending, with the zeros up to ``min(a, m)`` that a dense SVD gives.
+
+    Entry ``(i, j)`` of matrix ``l`` must be zero unless ``row_labels[i] == column_labels[l, j]`` (not
+    checked). The rows and columns of one label form a block; with ``P``, ``Q`` the permutations that
+    gather them, ``P M Q`` is block diagonal, so the singular values of M are the union of the blocks' and
+    the zeros of the rows or columns beyond each block's smaller side (as for DΦ itself,
+    :func:`union_of_values`). The blocks of one shape of every matrix go in one call of
+    `singular_values`. A label with rows and no column (or columns and no row) in a matrix gives zeros only.
+
+    For instance ``G = Dπ·T`` with coordinate rows Dπ (row i picks joint coordinate ``jᵢ``) and a tangent
+    basis T whose every column lies on one component of DΦ's pattern (:func:`manifold.tangent_basis` on the
+    block path): the labels are :attr:`JacobianPattern.column_components` of the ``jᵢ`` and of the columns'
+    supports.
+
+    Parameters
+    ----------
+    matrices : array_like, shape=[g, a, m]
+    row_labels : array_like of int, shape=[a]
+        Non-negative.
+    column_labels : array_like of int, shape=[g, m] or [m]
+        Non-negative; [m] for the same labels in every matrix.
+    singular_values : callable, optional
+        Singular values of a stack [t, p, q] of blocks, shape=[t, min(p, q)], descending; default
+        ``numpy.linalg.svd(·, compute_uv=False)``, and the norm for blocks of one row or one column.
+
+    Returns
+    -------
+    values : ndarray, shape=[g, min(a, m)]
+
+    Examples
+    --------
+    >>> import numpy as np
+    >>> from manifold.blocks import labelled_block_singular_values
+    >>> matrix = np.array([[[0.0, 3.0, 0.0], [4.0, 0.0, 0.0]]])
+    >>> labelled_block_singular_values(matrix, [1, 0], [0, 1, 2]).tolist()
+    [[4.0, 3.0]]
+    """
+    matrices = np.asarray(matrices, dtype=float)
+    count, rows, columns = matrices.shape
+    row_labels = np.asarray(row_labels, dtype=np.intp).reshape(rows)
+    column_labels = np.broadcast_to(np.asarray(column_labels, dtype=np.intp), (count, columns))
+    size = min(rows, columns)
+    values = np.zeros((count, size))
+    if size == 0 or count == 0:
+        return values
+    label_count = int(max(row_labels.max(), column_labels.max())) + 1
+    row_order = np.argsort(row_labels, kind="stable")
+    row_counts = np.bincount(row_labels, minlength=label_count)
+    row_starts = np.cumsum(row_counts) - row_counts
+    column_order = np.argsort(column_labels, axis=1, kind="stable")                   # [g, m]
+    sorted_labels = np.take_along_axis(column_labels, column_order, axis=1)
+    keys = (np.arange(count)[:, None] * label_count + sorted_labels).ravel()           # ascending
+    pairs, pair_starts, column_counts = np.unique(keys, return_index=True, return_counts=True)
+    matrix_of, label_of = np.divmod(pairs, label_count)
+    pair_starts = pair_starts - matrix_of * columns  # where each pair's columns start in its matrix's order
+    shapes = np.stack([row_counts[label_of], column_counts], axis=1)                  # of each pair's block
+    found_matrix, found_values = [], []
+    for row_count, column_count in np.unique(shapes[shapes[:, 0] > 0], axis=0).tolist():
+        chosen = np.flatnonzero(np.all(shapes == (row_count, column_count), axis=1))
+        row_index = row_order[row_starts[label_of[chosen]][:, None] + np.arange(row_count)]       # [t, p]
+        column_index = column_order[matrix_of[chosen][:, None],
+                                    pair_starts[chosen][:, None] + np.arange(column_count)]      # [t, q]
+        blocks = matrices[matrix_of[chosen][:, None, None], row_index[:, :, None], column_index[:, None, :]]
+        found_values.append(_block_values(blocks, singular_values).ravel())
+        found_matrix.append(np.repeat(matrix_of[chosen], min(row_count, column_count)))
+    if found_values:
+        matrix_of, found = np.concatenate(found_matrix), np.concatenate(found_values)
+        order = np.argsort(matrix_of, kind="stable")
+        matrix_of, found = matrix_of[order], found[order]
+        counts = np.bincount(matrix_of, minlength=count)
+        place = np.arange(len(matrix_of)) - (np.cumsum(counts) - counts)[matrix_of]
+        values[matrix_of, place] = found
+    return -np.sort(-values, axis=1)
+
+
+def _block_values(blocks, singular_values):
+    """Singular values of a stack of blocks [t, p, q]: `singular_values` if given, else a block of one row or
+    column has its norm and others LAPACK's."""
+    if singular_values is not None:
+        return singular_values(blocks)
+    if blocks.shape[-2] == 1 or blocks.shape[-1] == 1:
+        return np.linalg.norm(blocks.reshape(len(blocks), -1), axis=-1)[:, None]
+    return np.linalg.svd(blocks, compute_uv=False)

@@ -9,13 +9,16 @@ block by block equal their dense counterparts.
 import numpy as np
 import pytest
 
+from manifold import implicit
+
 from manifold import (
     AmbientSpace, ImplicitManifold, JacobianPattern, jacobian_rank, normal_basis, numerical_rank, sparse_tangent_basis,
     tangent_basis,
 )
 from manifold.blocks import (
-    apply_pseudo_inverse, block_rank, block_vectors, cap_block_steps, decompose, dense_basis, minimum_norm_solutions,
-    pseudo_inverse, scaled_blocks, sparse_basis, stacked_singular_values,
+    apply_pseudo_inverse, block_rank, block_vectors, cap_block_steps, decompose, dense_basis,
+    labelled_block_singular_values, minimum_norm_solutions, pseudo_inverse, scaled_blocks, sparse_basis,
+    stacked_singular_values,
 )
 
 
@@ -192,3 +195,48 @@ def test_block_vectors_of_a_stack_are_each_matrix_s_to_the_bit(kernel):
             np.testing.assert_array_equal(vectors[configurations == index], vectors_alone)
     counts = sum(np.bincount(configurations, minlength=len(stack)) for configurations, _, _ in stacked)
     assert counts[3] != counts[0]  # the cuts differ: the last matrix's first block has one value less above it
+
+
+@pytest.mark.parametrize("shared_columns", [False, True], ids=["labels per matrix", "one set of labels"])
+def test_labelled_block_singular_values_are_the_dense_ones(shared_columns):
+    """Stacks of matrices block diagonal after permuting rows and columns by random labels (blocks of several
+    shapes, wide and tall, 1 × 1 ones; labels with rows and no column and the reverse; no rows or no columns;
+    a block 1e-9 of the others): the union of the blocks' values with the dense SVD's zeros, to 1e-12 of σ₁."""
+    rng = np.random.default_rng(41)
+    for trial in range(120):
+        count, rows, columns = int(rng.integers(0, 4)), int(rng.integers(0, 10)), int(rng.integers(0, 10))
+        labels = int(rng.integers(1, 6))
+        row_labels = rng.integers(0, labels, rows)
+        column_labels = rng.integers(0, labels + 1, columns if shared_columns else (count, columns))
+        mask = row_labels[:, None] == np.broadcast_to(column_labels, (count, columns))[:, None, :]
+        matrices = rng.standard_normal((count, rows, columns)) * mask
+        if rows and trial % 2:
+            matrices[:, row_labels == row_labels[0]] *= 1e-9
+        values = labelled_block_singular_values(matrices, row_labels, column_labels)
+        dense = np.linalg.svd(matrices, compute_uv=False) if count else np.zeros((0, min(rows, columns)))
+        assert values.shape == dense.shape == (count, min(rows, columns)), trial
+        if dense.size:
+            assert np.all(np.abs(values - dense) <= 1e-12 * dense[:, :1]), trial
+
+
+def test_labelled_block_singular_values_of_coordinate_rows_on_one_block_basis(monkeypatch):
+    """Coordinate rows (one nonzero each, two on one column) times a basis whose columns each lie on one
+    component of a pattern (the labels of :attr:`JacobianPattern.column_components`): the blocks' values are the
+    dense ones; a given `singular_values` is the one called."""
+    rng = np.random.default_rng(42)
+    manifold, _ = linear_manifold(rng)
+    pattern = manifold.pattern
+    monkeypatch.setattr(implicit, "BLOCK_THRESHOLD", 0)  # the block path's basis: one block per column
+    basis = tangent_basis(manifold, np.zeros(9))[0]                              # [9, m]
+    components = pattern.column_components
+    assert sorted(set(components.tolist())) == list(range(len(set(components.tolist()))))
+    columns, factors = np.array([0, 4, 7, 0, 8]), rng.uniform(0.5, 2.0, 5)
+    block = factors[:, None] * basis[columns]
+    column_labels = components[np.argmax(basis != 0.0, axis=0)]
+    assert np.all((basis == 0.0) | (components[:, None] == column_labels))
+    called = []
+    values = labelled_block_singular_values(block[None], components[columns], column_labels,
+                                            lambda blocks: called.append(blocks.shape) or
+                                            np.linalg.svd(blocks, compute_uv=False))
+    dense = np.linalg.svd(block, compute_uv=False)
+    assert called and np.all(np.abs(values[0] - dense) <= 1e-12 * dense[0])
