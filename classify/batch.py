@@ -32,10 +32,12 @@ shape of every configuration of a chunk in one batched SVD, whose values are
 DΦ's and whose vectors give the tangent bases as :func:`manifold.tangent_basis`
 does (:func:`manifold.blocks.decompose`), with no SVD of the c × k DΦ and no k × k
 orthogonal factor, nor the dense DΦ itself (its blocks come from its entries:
-:func:`mechanisms.closure_and_entries`); actuators that are coordinate rows (a joint-graph
-mechanism's) make the a × m actuator block block diagonal as well, and its
-values are its blocks' (:func:`_block_singular_values`). The stack goes in chunks of about the same memory for
-every mechanism (:func:`default_chunk`), in threads with ``workers``.
+:func:`mechanisms.closure_and_entries`); actuators that are coordinate rows (a
+joint-graph mechanism's) make the a × m actuator block block diagonal as
+well, and its values are its blocks'
+(:func:`manifold.blocks.labelled_block_singular_values`). The stack goes in
+chunks of about the same memory for every mechanism (:func:`default_chunk`),
+in threads with ``workers``.
 
 What is not array work runs only where it is needed, through
 :func:`classify.classify` itself: at a configuration where DΦ has less than
@@ -62,17 +64,18 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from manifold import DEFAULT_ATOL, DEFAULT_RTOL, check_rtol, handled_by_blocks, implicit, tangent_extents
-from manifold.blocks import block_vectors, union_of_values
+from manifold.blocks import block_vectors, decompose, labelled_block_singular_values, union_of_values
 from mechanisms import CLOSURE_TOLERANCE, ConfigurationError, Mechanism, closure_and_entries, closure_and_jacobian
 from mechanisms.kinematics import rotation_blocks
 from mechanisms.mechanism import dense_memory_estimate
 
 from .classification import CLOSURE_BAND, classify, closure_of, not_on_m
 from .metrics import JACOBI_ROWS, JACOBI_STACK, metric_root, moving_directions, proper_values, singular_values
-from .model import cached, model_of
+from .model import model_of
 from .progress import progress_bar
 from .report import KINDS
-from .survey import end_effector_reference, stacked as stacked_rows, survey_of, unit_actuator_rows
+from .survey import (end_effector_reference, model_coordinate_rows, rows_on, stacked as stacked_rows, survey_of,
+                     unit_actuator_rows)
 from .threads import ordered_map, thread_count
 
 __all__ = ["Classifications", "classify_many", "kernel_bases", "default_chunk"]
@@ -331,7 +334,7 @@ def default_chunk(model):
 
 
 def _block_entry_count(pattern):
-    """Floats of one configuration's DΦ taken block by block (:func:`_block_decomposition`): its entries and
+    """Floats of one configuration's DΦ taken block by block (:func:`manifold.blocks.decompose`): its entries and
     their padded copy (2 nnz), and for every block (r × q) its matrix, singular values and Vᴴ:
     ``2 nnz + Σ (r q + min(r, q) + q²)``."""
     total = 2 * pattern.nnz
@@ -354,7 +357,7 @@ def _decisions(values, tolerance):
 
 def _closure_and_jacobian(model, points, offset, entries=False):
     """DΦ·diag(s) of a chunk, shape=[b, c, k], or with `entries` DΦ's entries at the manifold's pattern,
-    shape=[b, nnz] (unscaled: :func:`_block_decomposition`), after checking that every configuration closes
+    shape=[b, nnz] (unscaled: :func:`manifold.blocks.decompose`), after checking that every configuration closes
     its loops (as :func:`classify.classify`: |Φ| ≤ the closure tolerance and a point of M, not a spurious zero).
 
     For a joint-graph mechanism Φ, the half-turn test and DΦ come from one expansion of each loop
@@ -389,40 +392,19 @@ def _closure_and_jacobian(model, points, offset, entries=False):
     return np.asarray(jacobian, dtype=float) * manifold.ambient.tangent_scales
 
 
-def _block_decomposition(manifold, entries):
-    """:func:`manifold.blocks.decompose` of a chunk's DΦ·diag(s) from DΦ's entries at the pattern (shape=[b, nnz],
-    :func:`_closure_and_jacobian`), without the dense c × k matrices: block i of a group is
-    ``padded_entries[positions[i]]·diag(s[columns[i]])`` (:class:`manifold.blocks.BlockGroup`, a zero off the
-    pattern), the same numbers as the dense matrices' blocks.
-
-    Returns
-    -------
-    list of tuple
-        ``(block group, singular values [b, blocks, min(r, q)], Vᴴ [b, blocks, q, q])`` per block group.
-    """
-    padded = np.concatenate([entries, np.zeros((len(entries), 1))], axis=-1)
-    scales = manifold.ambient.tangent_scales
-    decomposed = []
-    for group in manifold.pattern.blocks:
-        _, values, right = np.linalg.svd(padded[:, group.positions] * scales[group.columns][:, None, :],
-                                         full_matrices=True)
-        decomposed.append((group, values, right))
-    return decomposed
-
-
 def _first_order(model, points, survey, rtol, offset, columns=None):
     """Columns of the first-order classification of a chunk of configurations (see the module notes),
     written into `columns` (views of the whole stack's, :func:`_rows_of`) when given.
 
     The rank of DΦ·diag(s) and the tangent bases come from its blocks where the single call takes them so
-    (:func:`manifold.implicit.handled_by_blocks`: :func:`_block_decomposition`, from DΦ's entries), else from
+    (:func:`manifold.implicit.handled_by_blocks`: :func:`manifold.blocks.decompose`, from DΦ's entries), else from
     the dense matrices."""
     count = len(points)
     scales = model.manifold.ambient.tangent_scales
     if handled_by_blocks(model.manifold):  # no dense c × k DΦ: its blocks from its entries
         jacobian = None
         shape = (count,) + model.manifold.pattern.shape
-        decomposition = _block_decomposition(model.manifold, _closure_and_jacobian(model, points, offset, True))
+        decomposition = decompose(model.manifold, entries=_closure_and_jacobian(model, points, offset, True))
         constraint_values, constraint_tolerance = _block_constraint_values(decomposition, shape, rtol)
     else:
         jacobian = _closure_and_jacobian(model, points, offset)
@@ -577,7 +559,7 @@ def _block_constraint_values(decomposition, shape, rtol):
     Parameters
     ----------
     decomposition : list of tuple
-        :func:`_block_decomposition` of the chunk's DΦ·diag(s).
+        :func:`manifold.blocks.decompose` of the chunk's DΦ·diag(s).
     shape : tuple of int
         ``(b, c, k)``: the chunk's DΦ.
     rtol : float
@@ -597,7 +579,7 @@ def _block_kernel_bases(decomposition, selection, tolerance, manifold, rank):
     Parameters
     ----------
     decomposition : list of tuple
-        :func:`_block_decomposition` of the chunk's DΦ·diag(s).
+        :func:`manifold.blocks.decompose` of the chunk's DΦ·diag(s).
     selection : ndarray of int, shape=[g]
         Configurations of the chunk, all with the same rank of DΦ·diag(s).
     tolerance : ndarray, shape=[g]
@@ -775,20 +757,22 @@ def _regular_columns(model, points, basis, constraint_rank, survey, rtol, column
     tangent bases `basis` accurate to `error` (:func:`basis_error`, shape=[g]). Returns where a decision or
     a value is not sure (:func:`_unsure`), shape=[g]: those are classified one at a time.
 
-    Actuators that are coordinate rows (:func:`_coordinate_rows`) are applied to the bases by picking rows.
+    Actuators that are coordinate rows are applied to the bases by picking rows (:func:`classify.survey.rows_on`).
     Where the bases come from DΦ's blocks (`blocks`: each column supported on one block or free column), the
-    actuator block's singular values are then its own blocks' (:func:`_block_singular_values`)."""
+    actuator block's singular values are then its own blocks'
+    (:func:`manifold.blocks.labelled_block_singular_values`)."""
     k = model.manifold.ambient.dim
     dof = k - constraint_rank
     count = len(points)
     unit_actuators, actuator_scale = unit_actuator_rows(model)
     actuator_tolerance = max(rtol * actuator_scale, DEFAULT_ATOL)
-    coordinates = _coordinate_rows(model, "unit_actuator_rows", unit_actuators)
-    actuator_block = _rows_on(unit_actuators, coordinates, basis)  # [g, a, m]
+    actuator_block = rows_on(model, "unit_actuator_rows", unit_actuators, basis)  # [g, a, m]
+    coordinates = model_coordinate_rows(model, "unit_actuator_rows", unit_actuators)
     if blocks and coordinates is not None:
-        components = _column_components(model.manifold.pattern)
-        actuator_values = _block_singular_values(actuator_block, components[coordinates[0]],
-                                                 components[np.argmax(basis != 0.0, axis=-2)])
+        components = model.manifold.pattern.column_components
+        actuator_values = labelled_block_singular_values(actuator_block, components[coordinates[0]],
+                                                         components[np.argmax(basis != 0.0, axis=-2)],
+                                                         singular_values=singular_values)
     else:
         actuator_values = singular_values(actuator_block)
     actuator_ranks, actuator_margins = _decisions(actuator_values, actuator_tolerance)
@@ -860,7 +844,7 @@ def _regular_columns(model, points, basis, constraint_rank, survey, rtol, column
         motions = basis[definite]
         if kept < dof:
             motions = motions @ moving_directions(stacked(definite), kept)
-        actuator_motions = _rows_on(model.actuators, _coordinate_rows(model, "actuators", model.actuators), motions)
+        actuator_motions = rows_on(model, "actuators", model.actuators, motions)
         values = proper_values(actuator_motions, end_effector_jacobian[definite] @ motions,
                                model.end_effector_metric, count)
         vanishing = end_effector_ranks[definite] < count
@@ -870,95 +854,6 @@ def _regular_columns(model, points, basis, constraint_rank, survey, rtol, column
         columns["eigenvalues"][rows[definite], :values.shape[1]] = values
         columns["condition_number"][rows[definite]] = condition
     return unsure
-
-
-def _coordinate_rows(model, name, matrix):
-    """``(columns [a], factors [a])`` where every row of `matrix` (shape=[a, k], a constant of the model named
-    `name`) has exactly one nonzero entry, ``factors[i]`` at ``columns[i]`` (an actuated joint's rate: the
-    actuators of a joint-graph mechanism); else None. Kept in ``model.cache``."""
-    def compute():
-        nonzero = matrix != 0.0
-        if not np.all(np.count_nonzero(nonzero, axis=1) == 1):
-            return ()
-        columns = np.argmax(nonzero, axis=1)
-        return columns, matrix[np.arange(len(matrix)), columns]
-
-    return cached(model, ("coordinate_rows", name), compute) or None
-
-
-def _rows_on(matrix, coordinates, bases):
-    """``matrix @ bases`` (shape=[a, k] and [g, k, m]), shape=[g, a, m]: rows of the bases times the factors
-    where the rows are coordinate rows (`coordinates` from :func:`_coordinate_rows`, else None), the same
-    numbers (one nonzero term per entry) without the a·k·m products."""
-    if coordinates is None:
-        return matrix @ bases
-    columns, factors = coordinates
-    return factors[:, None] * bases[:, columns, :]
-
-
-def _column_components(pattern):
-    """The component of DΦ's pattern each column belongs to, shape=[k]: its block's number (blocks numbered
-    group by group, as ``pattern.blocks`` lists them), or a number of its own for a free column."""
-    labels = np.empty(pattern.shape[1], dtype=np.intp)
-    start = 0
-    for group in pattern.blocks:
-        labels[group.columns] = start + np.arange(len(group.columns))[:, None]
-        start += len(group.columns)
-    labels[pattern.free_columns] = start + np.arange(len(pattern.free_columns))
-    return labels
-
-
-def _block_singular_values(matrices, row_labels, column_labels):
-    """Singular values of a stack of matrices that are block diagonal after permuting rows and columns,
-    descending, with the zeros up to ``min(a, m)`` a dense SVD gives, shape=[g, min(a, m)].
-
-    Entry ``(i, j)`` of matrix ``l`` is zero unless ``row_labels[i] == column_labels[l, j]``: so it is for
-    ``G = Dπ·T`` with coordinate rows Dπ and a tangent basis T whose every column lies on one component of
-    DΦ's pattern (a block or a free column; :func:`manifold.blocks.decompose`), the labels being the
-    components of the actuated joints and of the columns' supports. The singular values of the whole are
-    the union of the blocks' (rows and columns of one label), and zeros (as for DΦ itself:
-    :func:`manifold.blocks.union_of_values`); the blocks of one shape of every matrix go in one call of
-    :func:`classify.metrics.singular_values`.
-
-    Parameters
-    ----------
-    matrices : ndarray, shape=[g, a, m]
-    row_labels : ndarray of int, shape=[a]
-    column_labels : ndarray of int, shape=[g, m]
-    """
-    count, rows, columns = matrices.shape
-    size = min(rows, columns)
-    values = np.zeros((count, size))
-    if size == 0:
-        return values
-    label_count = int(max(row_labels.max(), column_labels.max())) + 1
-    row_order = np.argsort(row_labels, kind="stable")
-    row_counts = np.bincount(row_labels, minlength=label_count)
-    row_starts = np.cumsum(row_counts) - row_counts
-    column_order = np.argsort(column_labels, axis=1, kind="stable")                   # [g, m]
-    sorted_labels = np.take_along_axis(column_labels, column_order, axis=1)
-    keys = (np.arange(count)[:, None] * label_count + sorted_labels).ravel()           # ascending
-    pairs, pair_starts, column_counts = np.unique(keys, return_index=True, return_counts=True)
-    matrix_of, label_of = np.divmod(pairs, label_count)
-    pair_starts -= matrix_of * columns          # where each pair's columns start in its matrix's sorted order
-    shapes = np.stack([row_counts[label_of], column_counts], axis=1)                  # of each pair's block
-    found_matrix, found_values = [], []
-    for row_count, column_count in np.unique(shapes[shapes[:, 0] > 0], axis=0).tolist():
-        chosen = np.flatnonzero(np.all(shapes == (row_count, column_count), axis=1))
-        row_index = row_order[row_starts[label_of[chosen]][:, None] + np.arange(row_count)]       # [t, p]
-        column_index = column_order[matrix_of[chosen][:, None],
-                                    pair_starts[chosen][:, None] + np.arange(column_count)]      # [t, q]
-        blocks = matrices[matrix_of[chosen][:, None, None], row_index[:, :, None], column_index[:, None, :]]
-        found_values.append(singular_values(blocks).ravel())
-        found_matrix.append(np.repeat(matrix_of[chosen], min(row_count, column_count)))
-    if found_values:
-        matrix_of, found = np.concatenate(found_matrix), np.concatenate(found_values)
-        order = np.argsort(matrix_of, kind="stable")
-        matrix_of, found = matrix_of[order], found[order]
-        counts = np.bincount(matrix_of, minlength=count)
-        place = np.arange(len(matrix_of)) - (np.cumsum(counts) - counts)[matrix_of]
-        values[matrix_of, place] = found
-    return -np.sort(-values, axis=1)
 
 
 def _largest(matrices):

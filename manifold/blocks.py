@@ -193,8 +193,8 @@ def _stacked_blocks(pattern, entries, scales):
     return [(group, padded[..., group.positions] * scales[group.columns][:, None, :]) for group in pattern.blocks]
 
 
-def scaled_blocks(manifold, point=None, *, jacobian=None):
-    """The blocks of DΦ(point)·diag(s), or of the given `jacobian`, one array per block group of
+def scaled_blocks(manifold, point=None, *, jacobian=None, entries=None):
+    """The blocks of DΦ(point)·diag(s), or of the given `jacobian` or `entries`, one array per block group of
     ``manifold.pattern``, shape=[..., b, r, q] (``DΦ·diag(s)[..., rows[i][:, None], columns[i]]`` for block i).
 
     Parameters
@@ -205,22 +205,27 @@ def scaled_blocks(manifold, point=None, *, jacobian=None):
         Points (or one point) where DΦ is taken, from its entries at the pattern.
     jacobian : array_like, shape=[..., c, k], optional
         Instead of `point`: DΦ·diag(s) itself, zero off the pattern (e.g. a stack already evaluated densely).
+    entries : array_like, shape=[..., nnz], optional
+        Instead of `point`: DΦ's entries at the pattern (unscaled, as ``constraint_jacobian_entries`` gives
+        them), already evaluated.
 
     Returns
     -------
     list of ndarray
         Shape=[..., b, r, q] per block group.
     """
-    if (point is None) == (jacobian is None):
-        raise ValueError("Expected exactly one of point and jacobian")
+    if sum(given is not None for given in (point, jacobian, entries)) != 1:
+        raise ValueError("Expected exactly one of point, jacobian and entries")
     if jacobian is not None:
         jacobian = np.asarray(jacobian, dtype=float)
         return [jacobian[..., group.rows[:, :, None], group.columns[:, None, :]] for group in manifold.pattern.blocks]
-    entries = np.asarray(manifold.constraint_jacobian_entries(point), dtype=float)
+    if entries is None:
+        entries = manifold.constraint_jacobian_entries(point)
+    entries = np.asarray(entries, dtype=float)
     return [blocks for _, blocks in _stacked_blocks(manifold.pattern, entries, manifold.ambient.tangent_scales)]
 
 
-def decompose(manifold, point=None, *, jacobian=None):
+def decompose(manifold, point=None, *, jacobian=None, entries=None):
     """SVD (full matrices) of every block of DΦ(point)·diag(s) (or of `jacobian`, :func:`scaled_blocks`), the
     blocks of one shape of every matrix of the stack in one batched call.
 
@@ -230,6 +235,8 @@ def decompose(manifold, point=None, *, jacobian=None):
     point : array_like, shape=[..., point_size], optional
     jacobian : array_like, shape=[..., c, k], optional
         DΦ·diag(s) itself instead of `point`.
+    entries : array_like, shape=[..., nnz], optional
+        DΦ's entries at the pattern instead of `point` (unscaled).
 
     Returns
     -------
@@ -237,7 +244,8 @@ def decompose(manifold, point=None, *, jacobian=None):
         ``(block group, singular values [..., b, min(r, q)], Vᴴ [..., b, q, q])`` per block group.
     """
     decomposed = []
-    for group, blocks in zip(manifold.pattern.blocks, scaled_blocks(manifold, point, jacobian=jacobian)):
+    for group, blocks in zip(manifold.pattern.blocks, scaled_blocks(manifold, point, jacobian=jacobian,
+                                                                    entries=entries)):
         _, values, right = np.linalg.svd(blocks, full_matrices=True)
         decomposed.append((group, values, right))
     return decomposed

@@ -2,7 +2,7 @@
 
 On the block path (:func:`manifold.handled_by_blocks`) :func:`classify.classify_many` gets Φ, the
 half-turn test and DΦ's entries from one expansion of each loop (:func:`mechanisms.closure_and_entries`),
-decomposes the blocks taken from the entries (:func:`classify.batch._block_decomposition`) and sizes its
+decomposes the blocks taken from the entries (:func:`manifold.blocks.decompose`) and sizes its
 chunks by those entries rather than by c × k (:func:`classify.batch.default_chunk`); it still equals the
 single calls item by item. The mechanisms are planar ladders (:func:`builders.ladder`) and spatial stacks
 of RSUR loops (:func:`builders.rsur_stack`).
@@ -50,7 +50,7 @@ def test_the_blocks_from_the_entries_are_the_single_calls():
     points = _configurations(mechanism, model, seed=11, count=3)
     entries = batch_module._closure_and_jacobian(model, points[:-1], 0, entries=True)
     entries = np.concatenate([entries, model.manifold.constraint_jacobian_entries(points[-1:])])  # flat: closes
-    decomposition = batch_module._block_decomposition(model.manifold, entries)
+    decomposition = decompose(model.manifold, entries=entries)
     for index, point in enumerate(points):
         for (group, values, right), (stacked_group, stacked_values, stacked_right) in zip(
                 decompose(model.manifold, point), decomposition):

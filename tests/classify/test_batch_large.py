@@ -17,9 +17,9 @@ from builders import ladder, shared_mechanism
 from classify import KINDS, classify, model_of
 from classify import batch as batch_module
 from classify.batch import classify_many
-from classify.survey import survey_of
 from manifold import handled_by_blocks, sample_manifold, tangent_basis
-from manifold.blocks import decompose
+from classify.survey import model_coordinate_rows, rows_on, survey_of
+from manifold.blocks import decompose, labelled_block_singular_values
 from mechanisms import from_displacements
 
 
@@ -105,7 +105,7 @@ def test_the_kernel_bases_are_the_single_calls_block_by_block():
     manifold = model.manifold
     points = np.stack([from_displacements(mechanism, _flattened(1)), from_displacements(mechanism, _flattened(2)),
                        from_displacements(mechanism, {**_loop_turned(4, 0.3), "T1": 0.2})])
-    decomposition = batch_module._block_decomposition(manifold, manifold.constraint_jacobian_entries(points))
+    decomposition = decompose(manifold, entries=manifold.constraint_jacobian_entries(points))
     values, tolerance = batch_module._block_constraint_values(decomposition, (len(points),) + manifold.pattern.shape,
                                                               1e-6)
     expected = [tangent_basis(manifold, point) for point in points]
@@ -161,23 +161,6 @@ def test_a_stack_decomposes_block_by_block_as_its_configurations_one_by_one():
                 np.testing.assert_array_equal(stacked_right[index], right)
 
 
-def test_block_singular_values_are_the_dense_ones():
-    """Stacks of matrices block diagonal after permuting rows and columns (labels in no order; blocks of several
-    shapes, wider and taller; labels with rows and no column, columns and no row; a block 1e-9 of the others):
-    the union of the blocks' values with the dense SVD's zeros, to 1e-12 of σ₁."""
-    rng = np.random.default_rng(40)
-    for trial in range(60):
-        count, rows, columns, labels = 3, int(rng.integers(1, 9)), int(rng.integers(1, 9)), int(rng.integers(1, 5))
-        row_labels = rng.integers(0, labels, rows)
-        column_labels = rng.integers(0, labels + 1, (count, columns))
-        matrices = rng.standard_normal((count, rows, columns)) * (row_labels[:, None] == column_labels[:, None, :])
-        matrices[:, row_labels == row_labels[0]] *= 1e-9 if trial % 2 else 1.0
-        values = batch_module._block_singular_values(matrices, row_labels, column_labels)
-        dense = np.linalg.svd(matrices, compute_uv=False)
-        assert values.shape == dense.shape == (count, min(rows, columns))
-        assert np.all(np.abs(values - dense) <= 1e-12 * dense[:, :1]), trial
-
-
 def test_the_actuator_rows_on_the_tangent_bases_are_decomposed_block_by_block(monkeypatch):
     """On a ladder the actuators are coordinate rows: picked from the bases they are the product Dπ·T to the bit,
     and G = Dπ·T is block diagonal (one 1 × 1 block per loop, one per actuated joint of the tail), whose values
@@ -187,21 +170,19 @@ def test_the_actuator_rows_on_the_tangent_bases_are_decomposed_block_by_block(mo
     model = model_of(mechanism)
     manifold = model.manifold
     points = _configurations(mechanism, model, seed=5, count=4)[:-1]  # regular
-    decomposition = batch_module._block_decomposition(manifold, manifold.constraint_jacobian_entries(points))
+    decomposition = decompose(manifold, entries=manifold.constraint_jacobian_entries(points))
     _, tolerance = batch_module._block_constraint_values(decomposition, (len(points),) + manifold.pattern.shape, 1e-6)
     rank = model.constraint_rows
     bases = manifold.ambient.tangent_scales[:, None] * batch_module._block_kernel_bases(
         decomposition, np.arange(len(points)), tolerance, manifold, rank)
     unit_actuators, _ = batch_module.unit_actuator_rows(model)
     for matrix, name in ((unit_actuators, "unit_actuator_rows"), (model.actuators, "actuators")):
-        coordinates = batch_module._coordinate_rows(model, name, matrix)
-        assert coordinates is not None
-        np.testing.assert_array_equal(batch_module._rows_on(matrix, coordinates, bases), matrix @ bases)
-    columns, _ = batch_module._coordinate_rows(model, "unit_actuator_rows", unit_actuators)
-    components = batch_module._column_components(manifold.pattern)
+        assert model_coordinate_rows(model, name, matrix) is not None
+        np.testing.assert_array_equal(rows_on(model, name, matrix, bases), matrix @ bases)
+    columns, _ = model_coordinate_rows(model, "unit_actuator_rows", unit_actuators)
+    components = manifold.pattern.column_components
     block = unit_actuators @ bases
-    values = batch_module._block_singular_values(block, components[columns],
-                                                 components[np.argmax(bases != 0.0, axis=-2)])
+    values = labelled_block_singular_values(block, components[columns], components[np.argmax(bases != 0.0, axis=-2)])
     dense = np.linalg.svd(block, compute_uv=False)
     assert np.all(np.abs(values - dense) <= 1e-12 * dense[:, :1])
     survey_of(model)  # the survey's own decompositions are dense
