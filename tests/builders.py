@@ -312,6 +312,15 @@ def ladder(loops, tail=0):
     return Mechanism(name, "planar", joints, end_effector=EndEffector(link, point=(0.5, float(loops + tail))))
 
 
+def recorded_svd_shapes(monkeypatch):
+    """The shapes of the matrices (stacks) given to ``numpy.linalg.svd`` from now on, a list that grows as it is
+    called (``monkeypatch.undo()`` stops it)."""
+    shapes, original = [], np.linalg.svd
+    monkeypatch.setattr(np.linalg, "svd", lambda matrix, *arguments, **options:
+                        shapes.append(np.shape(matrix)) or original(matrix, *arguments, **options))
+    return shapes
+
+
 def traced_peak(function, *arguments):
     """(result, peak bytes allocated while `function` ran), by tracemalloc (NumPy arrays included)."""
     tracemalloc.start()

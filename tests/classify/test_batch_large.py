@@ -13,7 +13,7 @@ whose loops own more columns than rows (no block-arrow form).
 import numpy as np
 import pytest
 
-from builders import ladder, shared_mechanism
+from builders import ladder, recorded_svd_shapes, shared_mechanism
 from classify import KINDS, classify, model_of
 from classify import batch as batch_module
 from classify.batch import classify_many
@@ -186,10 +186,7 @@ def test_the_actuator_rows_on_the_tangent_bases_are_decomposed_block_by_block(mo
     dense = np.linalg.svd(block, compute_uv=False)
     assert np.all(np.abs(values - dense) <= 1e-12 * dense[:, :1])
     survey_of(model)  # the survey's own decompositions are dense
-    calls = []
-    original = np.linalg.svd
-    monkeypatch.setattr(np.linalg, "svd", lambda matrix, *arguments, **options:
-                        calls.append(np.shape(matrix)) or original(matrix, *arguments, **options))
+    calls = recorded_svd_shapes(monkeypatch)
     result = classify_many(model, points)
     monkeypatch.undo()
     assert calls and max(min(shape[-2:]) for shape in calls) <= 3, sorted(set(calls))

@@ -14,7 +14,7 @@ loops and a stack of spatial RSUR loops.
 import numpy as np
 import pytest
 
-from builders import ladder, rsur_stack
+from builders import ladder, recorded_svd_shapes, rsur_stack
 from classify import KINDS, classify, model_of
 from classify.survey import survey_of, unit_actuator_rows
 from manifold import handled_by_blocks, implicit, sample_manifold
@@ -89,10 +89,7 @@ def test_a_single_call_takes_no_svd_of_the_actuator_block(monkeypatch):
     assert model.manifold.ambient.dim == 400
     survey_of(model)
     point = _points(mechanism, model, False)[-1]
-    calls = []
-    original = np.linalg.svd
-    monkeypatch.setattr(np.linalg, "svd", lambda matrix, *arguments, **options:
-                        calls.append(np.shape(matrix)) or original(matrix, *arguments, **options))
+    calls = recorded_svd_shapes(monkeypatch)
     report = classify(model, point)
     monkeypatch.undo()
     assert not report.kinds and report.actuator.rank == 103
