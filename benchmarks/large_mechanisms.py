@@ -4,8 +4,9 @@ Run from the repository root::
 
     .venv/bin/python benchmarks/large_mechanisms.py                 # k = 10 … 1000, about a minute
     .venv/bin/python benchmarks/large_mechanisms.py --sizes 10 100  # some sizes only
+    .venv/bin/python benchmarks/large_mechanisms.py --family rsur   # spatial loops, k = 12 … 1000, a few minutes
 
-The mechanism is a planar *ladder*: four-bar parallelogram loops stacked on
+The mechanism is a planar *ladder* (``--family ladder``, the default): four-bar parallelogram loops stacked on
 the ground, four joints each, rung i joined to rung i − 1 by two parallel
 links of direction (tᵢ, 1), tᵢ = 0.1 + 0.3 sin i (so that the rungs do not
 all move alike). The left joint of every loop is actuated, and when k is no
@@ -13,6 +14,10 @@ multiple of 4 the k mod 4 remaining joints (actuated) hang in a chain from
 the top rung; the end-effector is a point of the top rung or of the chain's
 last link. Every loop touches only its own joints: DΦ has one 3×4 block per
 loop, the structure :mod:`manifold.implicit` factorises block by block.
+With ``--family rsur``, a stack of spatial RSUR loops (R, S, U and R joints,
+seven coordinates each), each hung on the coupler of the one before, the
+crank of every loop actuated and the last coupler's pose the end-effector:
+DΦ has one 6×7 block per loop (``k // 4`` loops).
 
 Each size runs in a fresh subprocess (a clean peak RSS from
 ``resource.getrusage``): imports and a warm-up classification of a ladder of
@@ -31,7 +36,8 @@ paths a large mechanism takes (:func:`other_paths`, fastest of
 ``classify``, ``project_many`` of 25 points off M, ``assemble`` with two
 inputs moved, and the grid continuation of ``closedchain map`` over 5 × 5
 values of two inputs, and the peak RSS after them. It prints Markdown and
-writes JSON (``--out``, default ``benchmarks/results/large_mechanisms.json``).
+writes JSON (``--out``, default ``benchmarks/results/large_mechanisms.json``, ``large_mechanisms_rsur.json``
+with ``--family rsur``).
 """
 
 from __future__ import annotations
@@ -68,6 +74,20 @@ def ladder(joint_count):
     return ladder_of(loops, tail)
 
 
+def rsur_stack(joint_count):
+    """The stack of ``joint_count // 4`` spatial RSUR loops (``tests/builders.py``), at least one."""
+    from builders import rsur_stack as rsur_stack_of
+
+    loops = int(joint_count) // 4
+    if loops < 1:
+        raise ValueError(f"Expected at least 4 joints, got {joint_count}")
+    return rsur_stack_of(loops)
+
+
+#: the mechanisms measured (``--family``): the builder of a mechanism of about k joints
+FAMILIES = {"ladder": ladder, "rsur": rsur_stack}
+
+
 def _peak_rss():
     """Peak resident memory of this process so far, bytes (``ru_maxrss`` is in KiB on Linux, bytes on macOS)."""
     import resource
@@ -76,26 +96,28 @@ def _peak_rss():
     return peak if sys.platform == "darwin" else peak * 1024
 
 
-def measure(joint_count, repeats=3):
-    """Build and classify ladders of `joint_count` joints in this process; a dict for the JSON."""
+def measure(joint_count, repeats=3, family="ladder"):
+    """Build and classify mechanisms of the `family` with `joint_count` joints in this process; a dict for the
+    JSON."""
     import tracemalloc
 
     from classify import classify
-    from mechanisms import home
+    from mechanisms import configuration_space, home
 
-    warm = ladder(68)
+    build = FAMILIES[family]
+    warm = build(68)
     classify(warm, home(warm))
     baseline = _peak_rss()
     timings = []
     for _ in range(repeats):
         started = time.perf_counter()
-        mechanism = ladder(joint_count)
+        mechanism = build(joint_count)
         point = home(mechanism)
         built = time.perf_counter()
         report = classify(mechanism, point)
         timings.append((built - started, time.perf_counter() - built))
     peak = _peak_rss()
-    fresh = ladder(joint_count)
+    fresh = build(joint_count)
     tracemalloc.start()
     classify(fresh, home(fresh))
     traced = tracemalloc.get_traced_memory()[1]
@@ -103,8 +125,9 @@ def measure(joint_count, repeats=3):
     build_seconds, classify_seconds = min(timings, key=sum)
     others = {f"{name}_seconds": seconds for name, seconds in other_paths(mechanism, repeats).items()}
     others["paths_peak_rss_mb"] = _peak_rss() / 2 ** 20
-    return {**others, 
-        "k": joint_count, "loops": mechanism.loop_count, "dof": report.dof, "kinds": list(report.kinds),
+    return {
+        **others, "family": family, "coordinates": int(configuration_space(mechanism).ambient.dim),
+        "k": len(mechanism.joints), "loops": mechanism.loop_count, "dof": report.dof, "kinds": list(report.kinds),
         "build_seconds": build_seconds, "classify_seconds": classify_seconds,
         "seconds": build_seconds + classify_seconds, "all_seconds": [sum(pair) for pair in timings],
         "peak_rss_mb": peak / 2 ** 20, "baseline_rss_mb": baseline / 2 ** 20,
@@ -136,28 +159,40 @@ def other_paths(mechanism, repeats, count=50):
 
     model = model_of(mechanism)
     moves = np.linspace(-0.2, 0.2, count)
-    points = np.array([from_displacements(mechanism, {"A1": move, "B1": -move, "C1": move, "D1": -move})
-                       for move in moves])  # the first loop turned: points of M
+    if mechanism.space == "planar":
+        points = np.array([from_displacements(mechanism, {"A1": move, "B1": -move, "C1": move, "D1": -move})
+                           for move in moves])  # the first loop turned: points of M
+    else:  # points of M near the home, projected (not timed)
+        ambient = configuration_space(mechanism).ambient
+        moved = ambient.retract(np.broadcast_to(home(mechanism), (count, ambient.point_size)),
+                                0.05 * np.random.default_rng(1).standard_normal((count, ambient.dim))
+                                * ambient.tangent_scales)
+        points, converged = project_many(configuration_space(mechanism), moved)
+        points = points[np.asarray(converged, dtype=bool)]
     classify(model, points[0])
     off = points[: count // 2] + 1e-3 * np.random.default_rng(0).standard_normal(points[: count // 2].shape)
     values = np.linspace(-0.1, 0.1, 5)
     targets = np.array([from_displacements(mechanism, {"A1": first, "A2": second})
                         for first in values for second in values]) if mechanism.loop_count >= 2 else None
     held = tuple(sorted(mechanism.actuated_coordinates))
+    # two inputs moved (an RSUR loop's crank turns little one way from the home)
+    inputs = ({"A1": 0.1} if targets is None else {"A1": 0.1, "A2": -0.05}) if mechanism.space == "planar" else \
+        {"A1": -0.05, "A2": -0.05}
     timed = {
         "classify_many": lambda: classify_many(model, points, workers=1),
         "classify_loop": lambda: [classify(model, point) for point in points],
         "project_many": lambda: project_many(configuration_space(mechanism), off),
-        "assemble": lambda: assemble(mechanism, {"A1": 0.1} if targets is None else {"A1": 0.1, "A2": -0.05}),
+        "assemble": lambda: assemble(mechanism, inputs),
     }
     if targets is not None:
         timed["map_grid"] = lambda: assemble_grid(mechanism, home(mechanism), targets, (5, 5), held)
     return {name: _fastest(function, repeats) for name, function in timed.items()}
 
 
-def run(joint_count, repeats):
+def run(joint_count, repeats, family="ladder"):
     """:func:`measure` in a fresh subprocess; a dict with ``error`` where it failed or timed out."""
-    arguments = [sys.executable, str(Path(__file__).resolve()), "--one", str(joint_count), "--repeats", str(repeats)]
+    arguments = [sys.executable, str(Path(__file__).resolve()), "--one", str(joint_count), "--repeats", str(repeats),
+                 "--family", family]
     try:
         completed = subprocess.run(arguments, cwd=ROOT, capture_output=True, text=True, timeout=TIME_LIMIT)
     except subprocess.TimeoutExpired:
@@ -203,17 +238,21 @@ def main(argv=None):
     parser.add_argument("--repeats", type=int, default=3, help="timed runs per size, the fastest kept (default 3)")
     parser.add_argument("--out", type=Path, default=ROOT / "benchmarks" / "results" / "large_mechanisms.json",
                         help="JSON output")
+    parser.add_argument("--family", choices=sorted(FAMILIES), default="ladder",
+                        help="planar ladders of four-bars (default) or stacks of spatial RSUR loops")
     parser.add_argument("--one", type=int, metavar="K", help=argparse.SUPPRESS)  # the subprocess of one size
     options = parser.parse_args(argv)
     if options.one is not None:
-        print(json.dumps(measure(options.one, options.repeats)))
+        print(json.dumps(measure(options.one, options.repeats, options.family)))
         return
+    if options.family != "ladder" and options.out == parser.get_default("out"):
+        options.out = options.out.with_name(f"large_mechanisms_{options.family}.json")
     sys.path.insert(0, str(ROOT / "benchmarks"))
     from speed import machine
 
     rows = []
     for joint_count in options.sizes:
-        rows.append(run(joint_count, options.repeats))
+        rows.append(run(joint_count, options.repeats, options.family))
         print(f"k = {joint_count}: " + (rows[-1]["error"] if "error" in rows[-1] else
                                         f"{rows[-1]['seconds']:.2f} s, {rows[-1]['traced_peak_mb']:.1f} MB traced"),
               file=sys.stderr, flush=True)
