@@ -504,16 +504,28 @@ def regular_start(mechanism, start, held, constraint_rank=None):
         The given start when no neighbour within :data:`NEIGHBOUR_STEPS` is regular (the continuation tries it
         as it is).
     """
+    here = _given_start(mechanism, start, held, constraint_rank)
+    return _neighbour_of(mechanism, here, held, constraint_rank) if here.singular else here
+
+
+def _given_start(mechanism, start, held, constraint_rank=None):
+    """The given start as a :class:`StartingPoint` (``moved`` 0): its margin (:func:`held_margins`), whether it
+    is singular and a C-space singularity."""
+    start = np.asarray(start, dtype=float)
+    margins, ranks = _margins_and_ranks(mechanism, start, held, constraint_rank)
+    return StartingPoint(start, bool(margins[0] <= REGULAR_RTOL), 0.0, float(margins[0]),
+                         cspace=bool(constraint_rank is not None and ranks[0] < constraint_rank))
+
+
+def _neighbour_of(mechanism, here, held, constraint_rank):
+    """:func:`regular_start` of a singular start `here` (:func:`_given_start`): its regular neighbour, or
+    `here` where none is found."""
     from manifold import tangent_basis
     from mechanisms.kinematics import closes, configuration_space
 
     space = configuration_space(mechanism)
     ambient = space.ambient
-    start = np.asarray(start, dtype=float)
-    margins, ranks = _margins_and_ranks(mechanism, start, held, constraint_rank)
-    margin, cspace = float(margins[0]), bool(constraint_rank is not None and ranks[0] < constraint_rank)
-    if margin > REGULAR_RTOL:
-        return StartingPoint(start, False, 0.0, margin)
+    start = here.point
     scales = ambient.tangent_scales
     basis = tangent_basis(space, start)[0] / scales[:, None]  # dimensionless, orthonormal
     for size in NEIGHBOUR_STEPS:
@@ -531,8 +543,8 @@ def regular_start(mechanism, start, held, constraint_rank=None):
             for index in np.flatnonzero(good):
                 found.add(float(margins[index]), keys[index], corrected[index], float(moved[index]))
         if found.tied:
-            return found.choice(cspace)
-    return StartingPoint(start, True, 0.0, margin, cspace=cspace)
+            return found.choice(here.cspace)
+    return here
 
 
 class _Neighbours:
@@ -682,8 +694,9 @@ def assemble_grid(mechanism, start, targets, shape, held, bar=None, with_start=F
     entries = held_entries(ambient, held)
     targets = np.asarray(targets, dtype=float)
     given = np.asarray(start, dtype=float)
-    starting = None  # the regular neighbour of a singular start, once needed
-    left = False     # whether the continuation has left the given start for its neighbour
+    here = None      # the given start as a StartingPoint, once needed
+    starting = None  # where the continuation started, once known
+    left = False     # whether the given start has been left for its regular neighbour (or none was found)
     count = len(targets)
     periodic = _periodic_axes(ambient, targets, shape, held)
     neighbours = _wrapped(grid_neighbours(shape), periodic, shape)
@@ -692,16 +705,14 @@ def assemble_grid(mechanism, start, targets, shape, held, bar=None, with_start=F
     reached = np.zeros(count, dtype=bool)
     tried = np.zeros(neighbours.shape, dtype=bool)
     started = np.zeros(count, dtype=bool)
-    distance = np.linalg.norm(ambient.inverse_retract(start, targets)[:, held] / ambient.tangent_scales[held],
-                              axis=-1)
+    distance = _held_distances(ambient, start, targets, held)
     candidates = np.zeros(0, dtype=np.int64)
-    if constraint_rank is not None and _margins_and_ranks(mechanism, given, held)[1][0] < constraint_rank:
-        starting = regular_start(mechanism, given, held, constraint_rank)  # a C-space singularity: not from it
-        left = True
-        if starting.moved:
+    if constraint_rank is not None:
+        here = _given_start(mechanism, given, held, constraint_rank)
+        if here.cspace:  # a C-space singularity: none of the grid from it
+            starting, left = _neighbour_of(mechanism, here, held, constraint_rank), True
             start = starting.point
-            distance = np.linalg.norm(ambient.inverse_retract(start, targets)[:, held] / ambient.tangent_scales[held],
-                                      axis=-1)
+            distance = _held_distances(ambient, start, targets, held)
     while True:
         if candidates.size:  # a continuation front: each from one reached neighbour not tried yet
             around = neighbours[candidates]
@@ -731,11 +742,11 @@ def assemble_grid(mechanism, start, targets, shape, held, bar=None, with_start=F
         seed = _seed(mechanism, start, targets, held, entries, distance,
                      np.flatnonzero(~reached & ~started & ~tried.any(axis=1)), started)
         if seed is None and not left and not reached.all():  # points left that the start reaches not
-            starting, left = regular_start(mechanism, given, held, constraint_rank), True
+            here = here or _given_start(mechanism, given, held, constraint_rank)
+            starting, left = (_neighbour_of(mechanism, here, held, constraint_rank) if here.singular else here), True
             if starting.moved:  # a singular start: the rest of the grid from its regular neighbour
                 start = starting.point
-                distance = np.linalg.norm(ambient.inverse_retract(start, targets)[:, held]
-                                          / ambient.tangent_scales[held], axis=-1)
+                distance = _held_distances(ambient, start, targets, held)
                 started = reached.copy()
                 tried[~reached] = False  # a try from the singular start is no try from its neighbour
                 continue
@@ -748,12 +759,13 @@ def assemble_grid(mechanism, start, targets, shape, held, bar=None, with_start=F
         candidates = neighbours[index][neighbours[index] >= 0]
         candidates = candidates[~reached[candidates]]
     if with_start:
-        if starting is None:
-            margins, ranks = _margins_and_ranks(mechanism, given, held, constraint_rank)
-            starting = StartingPoint(given, bool(margins[0] <= REGULAR_RTOL), 0.0, float(margins[0]),
-                                     cspace=bool(constraint_rank is not None and ranks[0] < constraint_rank))
-        return points, reached, starting
+        return points, reached, starting or here or _given_start(mechanism, given, held, constraint_rank)
     return points, reached
+
+
+def _held_distances(ambient, start, targets, held):
+    """Dimensionless distance of each grid point's held coordinates from the start's, shape=[n]."""
+    return np.linalg.norm(ambient.inverse_retract(start, targets)[:, held] / ambient.tangent_scales[held], axis=-1)
 
 
 def _seed(mechanism, start, targets, held, entries, distance, fresh, started):
