@@ -565,11 +565,15 @@ def _planar_constants(group):
     (translations) as complex numbers, shape=[g, L], and whether every element is a rotation (cached)."""
     constants = _PLANAR_CONSTANTS.get(group)
     if constants is None:
-        twists = group.element_twists                                      # [g, L, 3, 3], signed
-        constants = (-twists[:, :, 1, 2] + 1j * twists[:, :, 0, 2], twists[:, :, 0, 2] + 1j * twists[:, :, 1, 2],
-                     bool(np.all(group.rotation)))
+        constants = _centres_and_directions(group.element_twists) + (bool(np.all(group.rotation)),)
         _PLANAR_CONSTANTS[group] = constants
     return constants
+
+
+def _centres_and_directions(twists):
+    """Of planar elements' signed twists [..., 3, 3]: the centre c of each rotation (``v = (c_y, −c_x)``) and
+    the direction a of each translation, as complex numbers, shape=[...] each."""
+    return -twists[..., 1, 2] + 1j * twists[..., 0, 2], twists[..., 0, 2] + 1j * twists[..., 1, 2]
 
 
 @dataclass(frozen=True, eq=False)
@@ -608,9 +612,7 @@ def planar_tree(link_chains, links):
     element on their paths along the spanning tree (:func:`prefix_tree`), in O(k) memory for k joints."""
     parents, last, ends, lengths = prefix_tree(link_chains, links)
     values, signs, element_twists, rotation, _ = _element_arrays("planar", [[element] for element in last])
-    twists = element_twists.reshape(-1, 3, 3)                                  # signed, as _planar_constants
-    centres = -twists[:, 1, 2] + 1j * twists[:, 0, 2]
-    directions = twists[:, 0, 2] + 1j * twists[:, 1, 2]
+    centres, directions = _centres_and_directions(element_twists.reshape(-1, 3, 3))
     return PlanarTree(parents, np.concatenate([[0], values.ravel()]).astype(np.intp),
                       np.concatenate([[0.0], signs.ravel()]), np.concatenate([[0j], centres]),
                       np.concatenate([[0j], directions]), np.concatenate([[True], rotation.ravel()]), ends,
