@@ -428,20 +428,13 @@ def closure_and_jacobian(mechanism, point):
     What :func:`constraint`, :func:`closes` (its half-turn test) and
     :func:`constraint_jacobian` compute, for the price of one: the loop
     products are the last prefix products of the first-order expansion.
-    DΦ is :func:`closure_and_entries`'s entries at :func:`constraint_pattern`, densely.
-
-    Parameters
-    ----------
-    mechanism : Mechanism
-    point : array_like, shape=[..., point_size]
+    It is :func:`closure_and_entries` (the same parameters, `rows` and `turns`) with DΦ's entries at
+    :func:`constraint_pattern` made dense.
 
     Returns
     -------
-    rows : ndarray, shape=[..., c]
-        Φ, as :func:`constraint`.
-    turns : ndarray of bool, shape=[...]
-        Whether every loop's rotation is the identity rather than a half-turn (whose rotation rows vanish
-        too), as in :func:`closes`.
+    rows, turns : ndarray
+        As :func:`closure_and_entries`.
     jacobian : ndarray, shape=[..., c, k]
         DΦ, as :func:`constraint_jacobian`.
     """
@@ -464,7 +457,8 @@ def closure_and_entries(mechanism, point):
     rows : ndarray, shape=[..., c]
         Φ, as :func:`constraint`.
     turns : ndarray of bool, shape=[...]
-        Whether every loop's rotation is the identity rather than a half-turn, as in :func:`closes`.
+        Whether every loop's rotation is the identity rather than a half-turn (whose rotation rows vanish
+        too), as in :func:`closes`.
     entries : ndarray, shape=[..., nnz]
         DΦ's entries in the pattern's order, as :func:`constraint_jacobian_entries`.
     """
