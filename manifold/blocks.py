@@ -427,12 +427,12 @@ def apply_pseudo_inverse(inverse, right_hand_side):
 
 
 def cap_block_steps(pattern, step, max_step, scales):
-    """Scale, in place, each block's part of `step` (shape=[k]) down to dimensionless norm ‖step/s‖ at most
-    `max_step` (`scales`: s, shape=[k])."""
+    """Scale, in place, each block's part of `step` (shape=[..., k]: one step or a stack) down to dimensionless
+    norm ‖step/s‖ at most `max_step` (`scales`: s, shape=[k])."""
     for group in pattern.blocks:
-        norms = np.linalg.norm(step[group.columns] / scales[group.columns], axis=-1)  # [b]
+        norms = np.linalg.norm(step[..., group.columns] / scales[group.columns], axis=-1)  # [..., b]
         factors = np.minimum(1.0, max_step / np.maximum(norms, np.finfo(float).tiny))
-        step[group.columns] *= factors[:, None]
+        step[..., group.columns] *= factors[..., None]
 
 
 def stacked_singular_values(pattern, entries, scales):

@@ -481,14 +481,18 @@ def _stalled(history):
     return len(history) > STALL_WINDOW and history[-1] > 0.99 * history[-1 - STALL_WINDOW]
 
 
-def project_many(manifold, points, tolerance=1e-12, max_iterations=60):
-    """Gauss-Newton projection of a stack of points onto M, all at once: :func:`project` point by point.
+def project_many(manifold, points, tolerance=1e-12, max_iterations=60, max_step=None, damped=False):
+    """The projections of a stack of points onto M, all at once: :func:`project` point by point.
 
-    Every point whose residual exceeds `tolerance` iterates
+    Every point whose residual exceeds `tolerance` takes :func:`project`'s
+    step with the same `max_step` and `damped`: Gauss-Newton's
     ``p ← p ⊕ (−s·(DΦ(p)·s)⁺ Φ(p))`` (:func:`minimum_norm_steps`: one batched
-    pseudo-inverse per iteration, of the dense Jacobians or block by block)
-    until ``|Φ(p)| ≤ tolerance``; a point that
-    reaches it (or whose residual is not finite) stops moving. Unlike
+    pseudo-inverse per iteration, of the dense Jacobians or block by block),
+    or with `damped` Levenberg-Marquardt's, each point with its own damping
+    (:func:`_damped_steps`: one batched SVD per iteration); until
+    ``|Φ(p)| ≤ tolerance``. A point stops moving where :func:`project`
+    stops: it reaches the tolerance, its residual is not finite, no damped
+    step lowers it, or (handled block by block) it stalls. Unlike
     :func:`project` nothing is raised: the points that did not converge are
     reported, and ``manifold.is_solution`` (which takes one point) is not
     applied: a caller with a batched check (e.g. :func:`mechanisms.closes`)
@@ -501,6 +505,10 @@ def project_many(manifold, points, tolerance=1e-12, max_iterations=60):
     points : array_like, shape=[..., point_size]
     tolerance : float
     max_iterations : int
+    max_step : float, optional
+        As :func:`project`'s, for each point.
+    damped : bool
+        As :func:`project`'s.
 
     Returns
     -------
@@ -522,21 +530,81 @@ def project_many(manifold, points, tolerance=1e-12, max_iterations=60):
     if not requested.size:  # an empty stack: nothing to project
         return requested.copy(), np.zeros(requested.shape[:-1], dtype=bool)
     projected = requested.reshape(-1, ambient.point_size).copy()
-    values = np.asarray(manifold.constraint(projected), dtype=float).reshape(len(projected), -1)
+    blocked = handled_by_blocks(manifold)
+
+    def constraint(stack):
+        return np.asarray(manifold.constraint(stack), dtype=float).reshape(len(stack), -1)
+
+    values = constraint(projected)
     active = np.arange(len(projected))
-    for _ in range(max_iterations):
+    damping = np.full(len(projected), DAMPING_START) if damped and not blocked else None
+    residuals = np.full((len(projected), max_iterations + 1), np.nan)  # |Φ| at each iteration (the stall test)
+    for iteration in range(max_iterations):
         norms = np.linalg.norm(values, axis=-1)
+        residuals[active, iteration] = norms
         keep = ~(norms <= tolerance) & np.isfinite(norms)
+        if blocked and iteration >= STALL_WINDOW:  # _stalled, point by point
+            keep &= ~(norms > 0.99 * residuals[active, iteration - STALL_WINDOW])
         active, values = active[keep], values[keep]
         if not len(active):
             break
+        if damping is not None:
+            moved, values, damping[active], accepted = _damped_steps(manifold, projected[active], values,
+                                                                     damping[active], max_step)
+            projected[active] = moved
+            active, values = active[accepted], values[accepted]  # no step lowers |Φ|: given up
+            continue
         steps = -scales * minimum_norm_steps(manifold, projected[active], values)
+        if max_step is not None:
+            _cap_steps(manifold, steps, max_step, scales)
         projected[active] = ambient.retract(projected[active], steps)
-        values = np.asarray(manifold.constraint(projected[active]), dtype=float).reshape(len(active), -1)
-    norms = np.linalg.norm(np.asarray(manifold.constraint(projected), dtype=float).reshape(len(projected), -1),
-                           axis=-1)
+        values = constraint(projected[active])
+    norms = np.linalg.norm(constraint(projected), axis=-1)
     shape = requested.shape[:-1]
     return projected.reshape(requested.shape), (norms <= tolerance).reshape(shape)
+
+
+def _cap_steps(manifold, steps, max_step, scales):
+    """Scale, in place, a stack of steps [n, k] as :func:`project` caps one: each block's part where the manifold is
+    handled block by block, else the whole step, to dimensionless norm at most `max_step`."""
+    if handled_by_blocks(manifold):
+        blocks_module.cap_block_steps(manifold.pattern, steps, max_step, scales)
+        return
+    norms = np.linalg.norm(steps / scales, axis=-1)
+    over = norms > max_step
+    steps[over] *= (max_step / norms[over])[:, None]
+
+
+def _damped_steps(manifold, points, values, damping, max_step):
+    """:func:`_damped_step` at a stack of points [n, point_size] with ``Φ = values`` [n, c] and dampings [n]:
+    ``(points, values, damping, accepted)`` after it, where `accepted` [n] says which points took a step that
+    lowers ‖Φ‖ (the others, none up to :data:`DAMPING_LARGEST`, are returned unmoved). One batched SVD of
+    DΦ·diag(s) serves every damping tried; each round tries the points not yet moved, their damping 4× larger."""
+    ambient = manifold.ambient
+    scales = ambient.tangent_scales
+    left, singular, right_transposed = np.linalg.svd(scaled_jacobian(manifold, points), full_matrices=False)
+    largest = singular[:, 0] if singular.shape[-1] else np.zeros(len(points))
+    reference = np.where(largest > 0, largest ** 2, 1.0)
+    along = (np.swapaxes(left, -1, -2) @ values[..., None])[..., 0]
+    residual_before = np.linalg.norm(values, axis=-1)
+    points, values, damping = points.copy(), values.copy(), damping.copy()
+    accepted = np.zeros(len(points), dtype=bool)
+    trying = np.flatnonzero(damping <= DAMPING_LARGEST)
+    while trying.size:
+        weights = singular[trying] / (singular[trying] ** 2 + damping[trying, None] * reference[trying, None])
+        step = -scales * (np.swapaxes(right_transposed[trying], -1, -2) @ (weights * along[trying])[..., None])[..., 0]
+        if max_step is not None:
+            _cap_steps(manifold, step, max_step, scales)
+        candidates = ambient.retract(points[trying], step)
+        candidate_values = np.asarray(manifold.constraint(candidates), dtype=float).reshape(len(trying), -1)
+        lower = np.linalg.norm(candidate_values, axis=-1) < residual_before[trying]  # False for NaN
+        moved = trying[lower]
+        points[moved], values[moved] = candidates[lower], candidate_values[lower]
+        damping[moved] = np.maximum(damping[moved] / 10, DAMPING_SMALLEST)
+        accepted[moved] = True
+        damping[trying[~lower]] *= 4
+        trying = trying[~lower][damping[trying[~lower]] <= DAMPING_LARGEST]
+    return points, values, damping, accepted
 
 
 def minimum_norm_steps(manifold, points, values, columns=None, rcond=STEP_RCOND):

@@ -229,7 +229,11 @@ def sample_manifold(manifold, rng, starts, random_count=24, walk_count=24, step=
     (exploring the start's branch). A random point is projected onto
     ``manifold.closing`` first where there is one (a map without Φ's
     spurious zeros, which would otherwise catch most of them; a damped
-    projection, see :func:`~manifold.project`), then onto Φ. On a closing
+    projection, see :func:`~manifold.project`), then onto Φ: all of them at
+    once (:func:`~manifold.project_many`, the same iterations as
+    :func:`~manifold.project` point by point) where Φ and DΦ take stacks of
+    points, as their contract says (a map written for one point is
+    projected one point at a time). On a closing
     map handled block by block (M the product of its blocks' zero sets, see
     :mod:`manifold.implicit`, the note on sparsity) all the random points
     are settled at once, block by block, a block that does not settle drawn
@@ -263,14 +267,11 @@ def sample_manifold(manifold, rng, starts, random_count=24, walk_count=24, step=
     settled = np.ones(len(guesses), dtype=bool)
     if closing is not None and _settles_blocks(closing):
         guesses, settled = _settled(closing, guesses, rng, starts[0])
-    for guess in guesses[settled]:
-        try:
-            if closing is not None:
-                guess = project(closing, guess, tolerance=CLOSING_TOLERANCE, max_step=1.0,
-                                max_iterations=CLOSING_ITERATIONS, damped=True)
-            samples.append(project(manifold, guess, max_step=1.0))
-        except ProjectionError:
-            continue
+    guesses = guesses[settled]
+    if closing is not None:
+        guesses = _projected(closing, guesses, tolerance=CLOSING_TOLERANCE, max_step=1.0,
+                             max_iterations=CLOSING_ITERATIONS, damped=True)
+    samples.extend(_projected(manifold, guesses, max_step=1.0))
     for start in starts:
         current = start
         for _ in range(walk_count):
@@ -284,6 +285,41 @@ def sample_manifold(manifold, rng, starts, random_count=24, walk_count=24, step=
             samples.append(candidate)
             current = candidate
     return np.array(samples)
+
+
+def _projected(manifold, points, **options):
+    """The points of a stack [n, point_size] that :func:`~manifold.project` projects onto M with `options`, in
+    their order, shape=[j, point_size]: all at once (:func:`~manifold.project_many`, then
+    ``manifold.is_solution``) where Φ and DΦ take stacks (:func:`_takes_stacks`), else one at a time."""
+    if len(points) > 1 and _takes_stacks(manifold, points[:2]):
+        projected, reached = project_many(manifold, points, **options)
+        if manifold.is_solution is not None:
+            reached = np.array([bool(one) and bool(manifold.is_solution(point))
+                                for point, one in zip(projected, reached)], dtype=bool)
+        return projected[reached]
+    kept = []
+    for point in points:
+        try:
+            kept.append(project(manifold, point, **options))
+        except ProjectionError:
+            continue
+    return np.reshape(kept, (-1, manifold.ambient.point_size))
+
+
+def _takes_stacks(manifold, points):
+    """Whether Φ and DΦ of `manifold` at a stack of points [n, point_size] equal their values point by point: the
+    maps' contract (``shape=[..., c]``), which a map written for one point, indexing ``p[0]``, breaks without an
+    error where the shapes happen to fit. Checked to rounding (1e-9 of each array's largest entry)."""
+    for function in (manifold.constraint, manifold.constraint_jacobian):
+        try:
+            stacked = np.asarray(function(points), dtype=float)
+            single = np.array([np.asarray(function(point), dtype=float) for point in points])
+        except Exception:  # noqa: BLE001 — a map that fails on a stack, however it fails, takes one point
+            return False
+        if stacked.shape != single.shape or not np.allclose(stacked, single, rtol=0.0,
+                                                            atol=1e-9 * np.max(np.abs(single), initial=1.0)):
+            return False
+    return True
 
 
 def _settles_blocks(closing):

@@ -1,0 +1,113 @@
+"""sample_manifold projects its random starts all at once (manifold.project_many with project's cap, damping and
+stall test) and keeps what project, one start at a time, would keep.
+
+The random starts' damped projections onto the closing map and then onto Φ were a loop of single projections,
+about half of every survey of M (a third of the test suite's time)."""
+
+import dataclasses
+
+import numpy as np
+import pytest
+
+from builders import five_bar, five_bar_positions, ladder, rsur, spherical_four_bar
+from manifold import AmbientSpace, ImplicitManifold, ProjectionError, project, project_many, sample_manifold
+from manifold.implicit import BLOCK_THRESHOLD, STALL_WINDOW
+from mechanisms import configuration_space, home
+
+MECHANISMS = {
+    "five-bar": lambda: five_bar(five_bar_positions(1.2, 2.0)),
+    "spherical four-bar": spherical_four_bar,
+    "RSUR pose": rsur,
+}
+
+
+def one_at_a_time(manifold, points, **options):
+    """What sample_manifold kept before: each point projected by project, those it raised on left out."""
+    kept = []
+    for point in points:
+        try:
+            kept.append(project(manifold, point, **options))
+        except ProjectionError:
+            continue
+    return np.reshape(kept, (-1, manifold.ambient.point_size))
+
+
+@pytest.mark.parametrize("name", sorted(MECHANISMS))
+def test_damped_capped_projections_of_far_starts_are_project_point_by_point(name):
+    """Levenberg-Marquardt from random points of K (each point its own damping), steps capped at 1: the same
+    points reach the closing map, at the same places."""
+    mechanism = MECHANISMS[name]()
+    closing = configuration_space(mechanism).closing
+    starts = closing.ambient.random_point(np.random.default_rng(5), center=home(mechanism), size=16)
+    options = dict(tolerance=1e-6, max_step=1.0, max_iterations=100, damped=True)
+    projected, reached = project_many(closing, starts, **options)
+    for start, point, one in zip(starts, projected, reached):
+        try:
+            single = project(closing, start, **options)
+        except ProjectionError:
+            assert not one
+            continue
+        assert one
+        np.testing.assert_allclose(point, single, rtol=0, atol=1e-9)
+    assert reached.sum() >= 8
+
+
+def test_a_capped_gauss_newton_step_is_capped_point_by_point():
+    mechanism = MECHANISMS["five-bar"]()
+    manifold = configuration_space(mechanism)
+    starts = manifold.ambient.random_point(np.random.default_rng(6), center=home(mechanism), size=6)
+    projected, reached = project_many(manifold, starts, max_step=0.05, max_iterations=200)
+    reached &= [bool(manifold.is_solution(point)) for point in projected]  # project's test of spurious zeros
+    single = one_at_a_time(manifold, starts, max_step=0.05, max_iterations=200)
+    assert len(single) >= 3
+    np.testing.assert_allclose(projected[reached], single, rtol=0, atol=1e-9)
+
+
+def test_a_point_that_stalls_block_by_block_stops_after_the_stall_window():
+    """project gives up, block by block, once the residual fell by less than 1% over STALL_WINDOW iterations;
+    so does the batch (steps capped at 1e-3 from a random start: no progress is possible), where it ran on to
+    max_iterations."""
+    mechanism = ladder(20, tail=1)
+    manifold = configuration_space(mechanism)
+    assert manifold.ambient.dim >= BLOCK_THRESHOLD
+    start = manifold.ambient.random_point(np.random.default_rng(28), center=home(mechanism))
+    with pytest.raises(ProjectionError, match=f"after {STALL_WINDOW} iterations"):
+        project(manifold, start, max_step=1e-3)
+    calls = []
+
+    def counted(points):
+        calls.append(len(points))
+        return manifold.constraint(points)
+
+    _, reached = project_many(dataclasses.replace(manifold, constraint=counted), start[None], max_step=1e-3)
+    assert not reached[0]
+    assert len(calls) == STALL_WINDOW + 2  # the start, one per step, the final check
+
+
+@pytest.mark.parametrize("name", sorted(MECHANISMS))
+def test_the_random_samples_are_the_single_projections(name):
+    """The random starts of sample_manifold (no walk): onto the closing map (damped), then onto Φ, as one
+    projection at a time would give them, in the same order."""
+    mechanism = MECHANISMS[name]()
+    manifold = configuration_space(mechanism)
+    start = home(mechanism)
+    samples = sample_manifold(manifold, np.random.default_rng(9), start[None], random_count=12, walk_count=0)
+    guesses = manifold.ambient.random_point(np.random.default_rng(9), center=start, size=12)
+    closed = one_at_a_time(manifold.closing, guesses, tolerance=1e-6, max_step=1.0, max_iterations=100,
+                           damped=True)
+    expected = np.concatenate([start[None], one_at_a_time(manifold, closed, max_step=1.0)])
+    assert samples.shape == expected.shape
+    np.testing.assert_allclose(samples, expected, rtol=0, atol=1e-9)
+
+
+def test_a_map_written_for_one_point_is_sampled_one_point_at_a_time():
+    """Φ(p) = [p[0]² + p[1]² − 4] takes one point: on a stack of two it returns a wrong array of the right size,
+    no error. The samples are the single projections, all on the circle."""
+    circle = ImplicitManifold(AmbientSpace(("R", "R")), lambda p: np.array([p[0] ** 2 + p[1] ** 2 - 4.0]),
+                              lambda p: np.array([[2 * p[0], 2 * p[1]]]))
+    start = np.array([[2.0, 0.0]])
+    samples = sample_manifold(circle, np.random.default_rng(3), start, random_count=2, walk_count=0)
+    guesses = circle.ambient.random_point(np.random.default_rng(3), center=start[0], size=2)
+    expected = np.concatenate([start, one_at_a_time(circle, guesses, max_step=1.0)])
+    np.testing.assert_allclose(samples, expected, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(np.hypot(samples[:, 0], samples[:, 1]), 2.0, atol=1e-10)
