@@ -20,7 +20,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from manifold import (
-    DEFAULT_RTOL, handled_by_blocks, jacobian_rank, numerical_rank, rank_of_values, sample_manifold, tangent_basis,
+    DEFAULT_RTOL, handled_by_blocks, jacobian_ranks, numerical_rank, rank_of_values, sample_manifold, tangent_basis,
     tangent_extent,
 )
 from manifold.blocks import labelled_block_singular_values
@@ -404,7 +404,7 @@ def survey(model, rng, starts=None, random_count=24, walk_count=24, rtol=DEFAULT
     manifold = model.manifold
     starts = model.starts if starts is None else np.atleast_2d(starts)
     points = sample_manifold(manifold, rng, starts, random_count=random_count, walk_count=walk_count)
-    decisions = {"constraint": [jacobian_rank(manifold, point, rtol=rtol) for point in points]}
+    decisions = {"constraint": jacobian_ranks(manifold, points, rtol=rtol)}  # one stack
     ranks = [decision.rank for decision in decisions["constraint"]]
     constraint_rank = max(ranks)
     rows = np.size(manifold.constraint(points[0]))

@@ -46,7 +46,7 @@ from . import blocks as blocks_module
 from .ambient import AmbientSpace
 from .blocks import JacobianPattern, apply_pseudo_inverse, block_rank, block_vectors, decompose
 from .errors import ProjectionError
-from .rank import DEFAULT_ATOL, DEFAULT_RTOL, numerical_rank
+from .rank import DEFAULT_ATOL, DEFAULT_RTOL, numerical_rank, rank_of_values
 
 __all__ = [
     "BLOCK_THRESHOLD",
@@ -62,6 +62,8 @@ __all__ = [
     "project",
     "settle_blocks",
     "project_many",
+    "jacobian_ranks",
+    "takes_stacks",
     "minimum_norm_steps",
     "scaled_singular_values",
     "tangent_basis",
@@ -195,6 +197,41 @@ def jacobian_rank(manifold, point, rtol=DEFAULT_RTOL, atol=DEFAULT_ATOL):
         return block_rank([], shape, rtol=rtol, atol=atol)
     values = [np.linalg.svd(blocks, compute_uv=False) for blocks in blocks_module.scaled_blocks(manifold, point)]
     return block_rank(values, shape, rtol=rtol, atol=atol)
+
+
+def jacobian_ranks(manifold, points, rtol=DEFAULT_RTOL, atol=DEFAULT_ATOL):
+    """:func:`jacobian_rank` at each point of a stack [n, point_size]: the singular values of the whole stack at
+    once (:func:`scaled_singular_values`) where Φ and DΦ take stacks (:func:`takes_stacks`), else point by point.
+
+    Returns
+    -------
+    decisions : list of RankDecision
+    """
+    points = np.asarray(points, dtype=float).reshape(-1, manifold.ambient.point_size)
+    if len(points) < 2 or not takes_stacks(manifold, points[:2]):
+        return [jacobian_rank(manifold, point, rtol=rtol, atol=atol) for point in points]
+    return [rank_of_values(values, rtol=rtol, atol=atol) for values in scaled_singular_values(manifold, points)]
+
+
+def takes_stacks(manifold, points):
+    """Whether Φ and DΦ of `manifold` at a stack of points [n, point_size] equal their values point by point.
+
+    Their contract (``shape=[..., c]``) says they take stacks; a map written
+    for one point, indexing ``p[0]``, breaks it, and where the shapes happen
+    to fit without an error. Checked to rounding (1e-9 of each array's
+    largest entry): callers take a stack at once where this holds, else one
+    point at a time.
+    """
+    for function in (manifold.constraint, manifold.constraint_jacobian):
+        try:
+            stacked = np.asarray(function(points), dtype=float)
+            single = np.array([np.asarray(function(point), dtype=float) for point in points])
+        except Exception:  # noqa: BLE001 — a map that fails on a stack, however it fails, takes one point
+            return False
+        if stacked.shape != single.shape or not np.allclose(stacked, single, rtol=0.0,
+                                                            atol=1e-9 * np.max(np.abs(single), initial=1.0)):
+            return False
+    return True
 
 
 # --------------------------------------------------------------------------- second derivatives

@@ -14,7 +14,7 @@ import numpy as np
 
 from .errors import ProjectionError
 from . import implicit as implicit_module
-from .implicit import handled_by_blocks, jacobian_rank, project, project_many, settle_blocks
+from .implicit import handled_by_blocks, jacobian_rank, project, project_many, settle_blocks, takes_stacks
 from .rank import DEFAULT_ATOL, DEFAULT_RTOL, numerical_rank
 
 __all__ = ["LocalRank", "local_rank", "sample_manifold", "largest_rank", "TangentExtent", "tangent_extent",
@@ -290,8 +290,8 @@ def sample_manifold(manifold, rng, starts, random_count=24, walk_count=24, step=
 def _projected(manifold, points, **options):
     """The points of a stack [n, point_size] that :func:`~manifold.project` projects onto M with `options`, in
     their order, shape=[j, point_size]: all at once (:func:`~manifold.project_many`, then
-    ``manifold.is_solution``) where Φ and DΦ take stacks (:func:`_takes_stacks`), else one at a time."""
-    if len(points) > 1 and _takes_stacks(manifold, points[:2]):
+    ``manifold.is_solution``) where Φ and DΦ take stacks (:func:`~manifold.takes_stacks`), else one at a time."""
+    if len(points) > 1 and takes_stacks(manifold, points[:2]):
         projected, reached = project_many(manifold, points, **options)
         if manifold.is_solution is not None:
             reached = np.array([bool(one) and bool(manifold.is_solution(point))
@@ -304,22 +304,6 @@ def _projected(manifold, points, **options):
         except ProjectionError:
             continue
     return np.reshape(kept, (-1, manifold.ambient.point_size))
-
-
-def _takes_stacks(manifold, points):
-    """Whether Φ and DΦ of `manifold` at a stack of points [n, point_size] equal their values point by point: the
-    maps' contract (``shape=[..., c]``), which a map written for one point, indexing ``p[0]``, breaks without an
-    error where the shapes happen to fit. Checked to rounding (1e-9 of each array's largest entry)."""
-    for function in (manifold.constraint, manifold.constraint_jacobian):
-        try:
-            stacked = np.asarray(function(points), dtype=float)
-            single = np.array([np.asarray(function(point), dtype=float) for point in points])
-        except Exception:  # noqa: BLE001 — a map that fails on a stack, however it fails, takes one point
-            return False
-        if stacked.shape != single.shape or not np.allclose(stacked, single, rtol=0.0,
-                                                            atol=1e-9 * np.max(np.abs(single), initial=1.0)):
-            return False
-    return True
 
 
 def _settles_blocks(closing):

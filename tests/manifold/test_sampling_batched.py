@@ -111,3 +111,32 @@ def test_a_map_written_for_one_point_is_sampled_one_point_at_a_time():
     expected = np.concatenate([start, one_at_a_time(circle, guesses, max_step=1.0)])
     np.testing.assert_allclose(samples, expected, rtol=0, atol=1e-12)
     np.testing.assert_allclose(np.hypot(samples[:, 0], samples[:, 1]), 2.0, atol=1e-10)
+
+
+@pytest.mark.parametrize("name", sorted(MECHANISMS) + ["ladder of 20 loops"])
+def test_the_rank_decisions_of_a_stack_are_jacobian_rank_point_by_point(name):
+    """The survey decides DΦ's rank at all its samples at once (manifold.jacobian_ranks): densely, and block by
+    block past BLOCK_THRESHOLD, the decisions of jacobian_rank, with the singular values to rounding."""
+    from manifold import jacobian_rank, jacobian_ranks
+
+    mechanism = ladder(20, tail=1) if name.startswith("ladder") else MECHANISMS[name]()
+    manifold = configuration_space(mechanism)
+    points = sample_manifold(manifold, np.random.default_rng(2), home(mechanism)[None], random_count=0,
+                             walk_count=5)
+    for batched, point in zip(jacobian_ranks(manifold, points), points):
+        single = jacobian_rank(manifold, point)
+        assert (batched.rank, batched.tolerance) == pytest.approx((single.rank, single.tolerance), rel=1e-13)
+        np.testing.assert_allclose(batched.singular_values, single.singular_values, rtol=0,
+                                   atol=1e-13 * single.singular_values[0])
+
+
+def test_a_map_written_for_one_point_is_decided_one_point_at_a_time():
+    from manifold import jacobian_rank, jacobian_ranks, takes_stacks
+
+    circle = ImplicitManifold(AmbientSpace(("R", "R")), lambda p: np.array([p[0] ** 2 + p[1] ** 2 - 4.0]),
+                              lambda p: np.array([[2 * p[0], 2 * p[1]]]))
+    points = np.array([[2.0, 0.0], [0.0, 0.0], [0.0, -2.0]])  # DΦ = 0 at the origin: rank 0 there only
+    assert not takes_stacks(circle, points[:2])
+    assert [decision.rank for decision in jacobian_ranks(circle, points)] == [1, 0, 1]
+    assert [decision.rank for decision in jacobian_ranks(circle, points)] == \
+        [jacobian_rank(circle, point).rank for point in points]
