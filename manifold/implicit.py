@@ -219,10 +219,12 @@ def takes_stacks(manifold, points):
     Their contract (``shape=[..., c]``) says they take stacks; a map written
     for one point, indexing ``p[0]``, breaks it, and where the shapes happen
     to fit without an error. Checked to rounding (1e-9 of each array's
-    largest entry): callers take a stack at once where this holds, else one
-    point at a time.
+    largest entry), DΦ by its entries where the manifold is handled block by
+    block (no dense c × k matrix): callers take a stack at once where this
+    holds, else one point at a time.
     """
-    for function in (manifold.constraint, manifold.constraint_jacobian):
+    jacobian = manifold.constraint_jacobian_entries if handled_by_blocks(manifold) else manifold.constraint_jacobian
+    for function in (manifold.constraint, jacobian):
         try:
             stacked = np.asarray(function(points), dtype=float)
             single = np.array([np.asarray(function(point), dtype=float) for point in points])

@@ -140,3 +140,17 @@ def test_a_map_written_for_one_point_is_decided_one_point_at_a_time():
     assert [decision.rank for decision in jacobian_ranks(circle, points)] == [1, 0, 1]
     assert [decision.rank for decision in jacobian_ranks(circle, points)] == \
         [jacobian_rank(circle, point).rank for point in points]
+
+
+def test_a_large_manifold_is_checked_for_stacks_without_its_dense_jacobian():
+    from manifold import takes_stacks
+
+    mechanism = ladder(20, tail=1)
+    manifold = configuration_space(mechanism)
+
+    def dense(point):
+        raise AssertionError("the dense Jacobian was formed")
+
+    points = sample_manifold(manifold, np.random.default_rng(2), home(mechanism)[None], random_count=0,
+                             walk_count=2)
+    assert takes_stacks(dataclasses.replace(manifold, constraint_jacobian=dense), points)
