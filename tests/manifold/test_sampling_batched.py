@@ -12,6 +12,7 @@ import pytest
 from builders import five_bar, five_bar_positions, ladder, rsur, spherical_four_bar
 from manifold import AmbientSpace, ImplicitManifold, ProjectionError, project, project_many, sample_manifold
 from manifold.implicit import BLOCK_THRESHOLD, STALL_WINDOW
+from manifold.sampling import CLOSING_ITERATIONS, CLOSING_TOLERANCE
 from mechanisms import configuration_space, home
 
 MECHANISMS = {
@@ -93,8 +94,8 @@ def test_the_random_samples_are_the_single_projections(name):
     start = home(mechanism)
     samples = sample_manifold(manifold, np.random.default_rng(9), start[None], random_count=12, walk_count=0)
     guesses = manifold.ambient.random_point(np.random.default_rng(9), center=start, size=12)
-    closed = one_at_a_time(manifold.closing, guesses, tolerance=1e-6, max_step=1.0, max_iterations=100,
-                           damped=True)
+    closed = one_at_a_time(manifold.closing, guesses, tolerance=CLOSING_TOLERANCE, max_step=1.0,
+                           max_iterations=CLOSING_ITERATIONS, damped=True)
     expected = np.concatenate([start[None], one_at_a_time(manifold, closed, max_step=1.0)])
     assert samples.shape == expected.shape
     np.testing.assert_allclose(samples, expected, rtol=0, atol=1e-9)
