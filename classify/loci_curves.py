@@ -162,8 +162,11 @@ def _trace_from_seeds(curve, seeds, step):
 
     Seeds where two branches of the curve cross are taken last: a trace from one leaves along an arbitrary
     branch, so the pieces would depend on the frame where another seed traces the same curves."""
+    from manifold import project_each
+
     ambient = curve.ambient
-    corrected = [on for on in (_correct(curve, seed, max_step=4 * step) for seed in seeds) if on is not None]
+    projected, reached = project_each(curve, seeds, tolerance=TOLERANCE, max_step=4 * step)  # as _correct, at once
+    corrected = list(projected[reached])
     crossing = [_is_crossing(curve, on) for on in corrected]
     traced = []
     for on in [on for on, at in zip(corrected, crossing) if not at] + [on for on, at in zip(corrected, crossing) if at]:

@@ -17,7 +17,7 @@ _SOURCES = {
     **dict.fromkeys(("CurveCertificate", "continue_curve"), ".continuation"),
     **dict.fromkeys(("ManifoldError", "ProjectionError"), ".errors"),
     **dict.fromkeys(("ImplicitManifold", "constraint_curvature", "handled_by_blocks", "hessian_form", "jacobian_rank",
-                     "jacobian_ranks", "minimum_norm_steps", "normal_basis", "project", "project_many", "residual",
+                     "jacobian_ranks", "minimum_norm_steps", "normal_basis", "project", "project_each", "project_many", "residual",
                      "scaled_jacobian", "scaled_singular_values", "settle_blocks", "sparse_tangent_basis",
                      "takes_stacks", "tangent_basis"), ".implicit"),
     **dict.fromkeys(("DEFAULT_ATOL", "DEFAULT_RTOL", "RankDecision", "numerical_rank", "rank_of_values",

@@ -62,6 +62,7 @@ __all__ = [
     "project",
     "settle_blocks",
     "project_many",
+    "project_each",
     "jacobian_ranks",
     "takes_stacks",
     "minimum_norm_steps",
@@ -601,6 +602,41 @@ def project_many(manifold, points, tolerance=1e-12, max_iterations=60, max_step=
     norms = np.linalg.norm(constraint(projected), axis=-1)
     shape = requested.shape[:-1]
     return projected.reshape(requested.shape), (norms <= tolerance).reshape(shape)
+
+
+def project_each(manifold, points, **options):
+    """:func:`project` at each point of a stack, all at once where Φ and DΦ take stacks (:func:`takes_stacks`):
+    :func:`project_many`, then ``manifold.is_solution`` point by point; else one point at a time.
+
+    Parameters
+    ----------
+    manifold : ImplicitManifold
+    points : array_like, shape=[n, point_size]
+    **options
+        :func:`project`'s `tolerance`, `max_iterations`, `max_step` and `damped`.
+
+    Returns
+    -------
+    projected : ndarray, shape=[n, point_size]
+        Each point's projection where `projected_ok` (elsewhere where the iterations stopped).
+    projected_ok : ndarray of bool, shape=[n]
+        Where :func:`project` returns a point (elsewhere it raises :class:`ProjectionError`).
+    """
+    points = np.asarray(points, dtype=float).reshape(-1, manifold.ambient.point_size)
+    if len(points) > 1 and takes_stacks(manifold, points[:2]):
+        projected, reached = project_many(manifold, points, **options)
+        if manifold.is_solution is not None:
+            reached = np.array([bool(one) and bool(manifold.is_solution(point))
+                                for point, one in zip(projected, reached)], dtype=bool)
+        return projected, reached
+    projected, reached = points.copy(), np.zeros(len(points), dtype=bool)
+    for index, point in enumerate(points):
+        try:
+            projected[index] = project(manifold, point, **options)
+        except ProjectionError:
+            continue
+        reached[index] = True
+    return projected, reached
 
 
 def _cap_steps(manifold, steps, max_step, scales):

@@ -14,7 +14,7 @@ import numpy as np
 
 from .errors import ProjectionError
 from . import implicit as implicit_module
-from .implicit import handled_by_blocks, jacobian_rank, project, project_many, settle_blocks, takes_stacks
+from .implicit import handled_by_blocks, jacobian_rank, project, project_each, project_many, settle_blocks
 from .rank import DEFAULT_ATOL, DEFAULT_RTOL, numerical_rank
 
 __all__ = ["LocalRank", "local_rank", "sample_manifold", "largest_rank", "TangentExtent", "tangent_extent",
@@ -230,9 +230,9 @@ def sample_manifold(manifold, rng, starts, random_count=24, walk_count=24, step=
     ``manifold.closing`` first where there is one (a map without Φ's
     spurious zeros, which would otherwise catch most of them; a damped
     projection, see :func:`~manifold.project`), then onto Φ: all of them at
-    once (:func:`~manifold.project_many`, the same iterations as
-    :func:`~manifold.project` point by point) where Φ and DΦ take stacks of
-    points, as their contract says (a map written for one point is
+    once (:func:`~manifold.project_each`: the same iterations as
+    :func:`~manifold.project` point by point, where Φ and DΦ take stacks of
+    points as their contract says; a map written for one point is
     projected one point at a time). On a closing
     map handled block by block (M the product of its blocks' zero sets, see
     :mod:`manifold.implicit`, the note on sparsity) all the random points
@@ -269,9 +269,11 @@ def sample_manifold(manifold, rng, starts, random_count=24, walk_count=24, step=
         guesses, settled = _settled(closing, guesses, rng, starts[0])
     guesses = guesses[settled]
     if closing is not None:
-        guesses = _projected(closing, guesses, tolerance=CLOSING_TOLERANCE, max_step=1.0,
-                             max_iterations=CLOSING_ITERATIONS, damped=True)
-    samples.extend(_projected(manifold, guesses, max_step=1.0))
+        guesses, closed = project_each(closing, guesses, tolerance=CLOSING_TOLERANCE, max_step=1.0,
+                                       max_iterations=CLOSING_ITERATIONS, damped=True)
+        guesses = guesses[closed]
+    projected, reached = project_each(manifold, guesses, max_step=1.0)
+    samples.extend(projected[reached])
     for start in starts:
         current = start
         for _ in range(walk_count):
@@ -285,25 +287,6 @@ def sample_manifold(manifold, rng, starts, random_count=24, walk_count=24, step=
             samples.append(candidate)
             current = candidate
     return np.array(samples)
-
-
-def _projected(manifold, points, **options):
-    """The points of a stack [n, point_size] that :func:`~manifold.project` projects onto M with `options`, in
-    their order, shape=[j, point_size]: all at once (:func:`~manifold.project_many`, then
-    ``manifold.is_solution``) where Φ and DΦ take stacks (:func:`~manifold.takes_stacks`), else one at a time."""
-    if len(points) > 1 and takes_stacks(manifold, points[:2]):
-        projected, reached = project_many(manifold, points, **options)
-        if manifold.is_solution is not None:
-            reached = np.array([bool(one) and bool(manifold.is_solution(point))
-                                for point, one in zip(projected, reached)], dtype=bool)
-        return projected[reached]
-    kept = []
-    for point in points:
-        try:
-            kept.append(project(manifold, point, **options))
-        except ProjectionError:
-            continue
-    return np.reshape(kept, (-1, manifold.ambient.point_size))
 
 
 def _settles_blocks(closing):
