@@ -184,18 +184,15 @@ def search_cspace(model, survey, seeds, step):
 
 def _search_zeros(model, value, gradient, seeds, step):
     """The zeros on M of a singular-value function near the seeds (:func:`search_cspace`)."""
-    from manifold import ProjectionError, project
+    from manifold import project_each
 
     curve = _zero_manifold(model, value, gradient)
     ambient = curve.ambient
+    near, reached = project_each(curve, np.atleast_2d(seeds), tolerance=CSPACE_TOLERANCE,
+                                 max_iterations=CSPACE_ITERATIONS, max_step=4 * step)
+    near, reached = project_each(model.manifold, near[reached], tolerance=TOLERANCE)  # Φ to the loci's (≪ 1e-8)
     found = []
-    for seed in np.atleast_2d(seeds):
-        try:
-            on = project(curve, seed, tolerance=CSPACE_TOLERANCE, max_iterations=CSPACE_ITERATIONS,
-                         max_step=4 * step)
-            on = project(model.manifold, on, tolerance=TOLERANCE)  # Φ to the loci's tolerance (a move ≪ 1e-8)
-        except ProjectionError:
-            continue
+    for on in near[reached]:
         if (curve.is_solution is not None and not curve.is_solution(on)) or (
                 found and _distances(ambient, on[None], np.array(found))[0] < step):
             continue
