@@ -578,13 +578,15 @@ def project_many(manifold, points, tolerance=1e-12, max_iterations=60, max_step=
     values = constraint(projected)
     active = np.arange(len(projected))
     damping = np.full(len(projected), DAMPING_START) if damped and not blocked else None
-    residuals = np.full((len(projected), max_iterations + 1), np.nan)  # |Φ| at each iteration (the stall test)
+    # block by block, the stall test (_stalled) point by point: |Φ| of the last STALL_WINDOW + 1 iterations, in turn
+    history = np.full((len(projected), STALL_WINDOW + 1), np.nan) if blocked else None
     for iteration in range(max_iterations):
         norms = np.linalg.norm(values, axis=-1)
-        residuals[active, iteration] = norms
         keep = ~(norms <= tolerance) & np.isfinite(norms)
-        if blocked and iteration >= STALL_WINDOW:  # _stalled, point by point
-            keep &= ~(norms > 0.99 * residuals[active, iteration - STALL_WINDOW])
+        if history is not None:
+            if iteration >= STALL_WINDOW:  # the slot of iteration − STALL_WINDOW
+                keep &= ~(norms > 0.99 * history[active, (iteration + 1) % (STALL_WINDOW + 1)])
+            history[active, iteration % (STALL_WINDOW + 1)] = norms
         active, values = active[keep], values[keep]
         if not len(active):
             break
