@@ -550,10 +550,11 @@ def planar_prefixes(group, point):
     else:
         turn = np.where(group.rotation, np.exp(1j * value), 1.0 + 0j)
         moves = np.where(group.rotation, centres * (1.0 - turn), value * directions)
-    shape = value.shape[:-1] + (1,)
-    rotations = np.concatenate([np.ones(shape, dtype=complex), np.cumprod(turn, axis=-1)], axis=-1)
-    translations = np.concatenate([np.zeros(shape, dtype=complex),
-                                   np.cumsum(rotations[..., :-1] * moves, axis=-1)], axis=-1)
+    shape = value.shape[:-1] + (value.shape[-1] + 1,)
+    rotations, translations = np.empty(shape, dtype=complex), np.empty(shape, dtype=complex)
+    rotations[..., 0], translations[..., 0] = 1.0, 0.0
+    np.cumprod(turn, axis=-1, out=rotations[..., 1:])
+    np.cumsum(rotations[..., :-1] * moves, axis=-1, out=translations[..., 1:])
     return rotations, translations
 
 
@@ -748,14 +749,16 @@ def planar_loops(group, point, length, order=1, closing=False):
     rotations, translations = planar_prefixes(group, point)
     rotation, translation = rotations[..., -1], translations[..., -1]
     turned = np.angle(rotation) if closing else rotation.imag
-    rows = np.stack([turned, translation.real / length, translation.imag / length], axis=-1)
+    rows = np.empty(turned.shape + (3,))
+    rows[..., 0], rows[..., 1], rows[..., 2] = turned, translation.real / length, translation.imag / length
     turns = rotation.real > 0.0
     if order < 1:
         return rows, turns, None
     angular, linear = planar_twists(group, rotations, translations)
     moved = linear + 1j * angular * translation[..., None]
-    turning = np.broadcast_to(angular, moved.shape) if closing else angular * rotation.real[..., None]
-    entries = np.stack([turning, moved.real / length, moved.imag / length], axis=-1)
+    entries = np.empty(moved.shape + (3,))
+    entries[..., 0] = angular if closing else angular * rotation.real[..., None]
+    entries[..., 1], entries[..., 2] = moved.real / length, moved.imag / length
     return rows, turns, entries
 
 
