@@ -37,6 +37,7 @@ product of many loops nearly always has one loop stuck).
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from typing import Callable, Optional
 
@@ -208,7 +209,7 @@ def jacobian_ranks(manifold, points, rtol=DEFAULT_RTOL, atol=DEFAULT_ATOL):
     -------
     decisions : list of RankDecision
     """
-    points = np.asarray(points, dtype=float).reshape(-1, manifold.ambient.point_size)
+    points = _finite_points(manifold, points, "jacobian_ranks")
     if len(points) < 2 or not takes_stacks(manifold, points[:2]):
         return [jacobian_rank(manifold, point, rtol=rtol, atol=atol) for point in points]
     return [rank_of_values(values, rtol=rtol, atol=atol) for values in scaled_singular_values(manifold, points)]
@@ -219,10 +220,12 @@ def takes_stacks(manifold, points):
 
     Their contract (``shape=[..., c]``) says they take stacks; a map written
     for one point, indexing ``p[0]``, breaks it, and where the shapes happen
-    to fit without an error. Checked to rounding (1e-9 of each array's
-    largest entry), DΦ by its entries where the manifold is handled block by
-    block (no dense c × k matrix): callers take a stack at once where this
-    holds, else one point at a time.
+    to fit without an error. Checked at the given points (callers pass
+    two), to 1e-9 of each array's largest entry or 1e-9 where that entry is
+    below 1 (Φ near M is small: DΦ carries the check there), DΦ by its
+    entries where the manifold is handled block by block (no dense c × k
+    matrix): callers take a stack at once where this holds, else one point
+    at a time.
     """
     jacobian = manifold.constraint_jacobian_entries if handled_by_blocks(manifold) else manifold.constraint_jacobian
     for function in (manifold.constraint, jacobian):
@@ -272,6 +275,19 @@ def _one_point(manifold, point, caller):
     if not np.all(np.isfinite(point)):
         raise ValueError(f"{caller}: the point has non-finite coordinates (NaN or infinity)")
     return point
+
+
+def _finite_points(manifold, points, caller):
+    """`points` as a float array of shape [n, point_size] with finite coordinates, or a ValueError naming `caller`
+    (as :func:`_one_point` for each point; a reshape with -1 fails where point_size is 0)."""
+    points = np.asarray(points, dtype=float)
+    size = manifold.ambient.point_size
+    if points.ndim < 1 or points.shape[-1] != size:
+        raise ValueError(f"{caller}: expected points of shape (n, {size}), got shape {points.shape}")
+    points = points.reshape(math.prod(points.shape[:-1]), size)
+    if not np.all(np.isfinite(points)):
+        raise ValueError(f"{caller}: a point has non-finite coordinates (NaN or infinity)")
+    return points
 
 
 def project(manifold, point, tolerance=1e-12, max_iterations=60, max_step=None, damped=False):
@@ -567,9 +583,9 @@ def project_many(manifold, points, tolerance=1e-12, max_iterations=60, max_step=
     ambient = manifold.ambient
     scales = ambient.tangent_scales
     requested = np.asarray(points, dtype=float)
-    if not requested.size:  # an empty stack: nothing to project
+    projected = requested.reshape(math.prod(requested.shape[:-1]), ambient.point_size).copy()  # point_size may be 0
+    if not len(projected):  # an empty stack: nothing to project
         return requested.copy(), np.zeros(requested.shape[:-1], dtype=bool)
-    projected = requested.reshape(-1, ambient.point_size).copy()
     blocked = handled_by_blocks(manifold)
 
     def constraint(stack):
@@ -620,11 +636,17 @@ def project_each(manifold, points, **options):
     Returns
     -------
     projected : ndarray, shape=[n, point_size]
-        Each point's projection where `projected_ok` (elsewhere where the iterations stopped).
+        Each point's projection where `projected_ok` (elsewhere not a point of M: where the iterations stopped,
+        or the point itself).
     projected_ok : ndarray of bool, shape=[n]
         Where :func:`project` returns a point (elsewhere it raises :class:`ProjectionError`).
+
+    Raises
+    ------
+    ValueError
+        If a point is not finite (as :func:`project`).
     """
-    points = np.asarray(points, dtype=float).reshape(-1, manifold.ambient.point_size)
+    points = _finite_points(manifold, points, "project_each")
     if len(points) > 1 and takes_stacks(manifold, points[:2]):
         projected, reached = project_many(manifold, points, **options)
         if manifold.is_solution is not None:

@@ -165,3 +165,31 @@ def test_a_large_manifold_is_checked_for_stacks_without_its_dense_jacobian():
     points = sample_manifold(manifold, np.random.default_rng(2), home(mechanism)[None], random_count=0,
                              walk_count=2)
     assert takes_stacks(dataclasses.replace(manifold, constraint_jacobian=dense), points)
+
+
+def test_a_space_of_dimension_zero_is_still_sampled():
+    """A point of a zero-dimensional space has no coordinate: a stack of them is [n, 0], which a reshape with -1
+    cannot rebuild (project_each and jacobian_ranks raised); one sample per start, random point and walk step."""
+    from manifold import jacobian_ranks
+
+    point = ImplicitManifold(AmbientSpace(()), lambda p: np.zeros(np.shape(p)[:-1] + (1,)),
+                             lambda p: np.zeros(np.shape(p)[:-1] + (1, 0)))
+    samples = sample_manifold(point, np.random.default_rng(0), np.zeros((1, 0)), random_count=3, walk_count=2)
+    assert samples.shape == (6, 0)
+    assert [decision.rank for decision in jacobian_ranks(point, samples)] == [0] * 6
+
+
+def test_a_point_that_is_not_finite_is_refused_wherever_it_is_in_the_stack():
+    """As project refuses one (ValueError), not ``reached = False`` after the first two points and a ValueError
+    among them."""
+    from manifold import jacobian_ranks, project_each
+
+    manifold = configuration_space(MECHANISMS["five-bar"]())
+    points = np.repeat(home(MECHANISMS["five-bar"]())[None], 4, axis=0)
+    for row in (0, 3):
+        spoiled = points.copy()
+        spoiled[row, 1] = np.nan
+        with pytest.raises(ValueError, match="non-finite"):
+            project_each(manifold, spoiled)
+        with pytest.raises(ValueError, match="non-finite"):
+            jacobian_ranks(manifold, spoiled)
