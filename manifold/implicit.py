@@ -282,6 +282,8 @@ def _finite_points(manifold, points, caller):
     (as :func:`_one_point` for each point; a reshape with -1 fails where point_size is 0)."""
     points = np.asarray(points, dtype=float)
     size = manifold.ambient.point_size
+    if points.shape == (0,) and size:  # no points (an empty list)
+        points = points.reshape(0, size)
     if points.ndim < 1 or points.shape[-1] != size:
         raise ValueError(f"{caller}: expected points of shape (n, {size}), got shape {points.shape}")
     points = points.reshape(math.prod(points.shape[:-1]), size)

@@ -193,3 +193,12 @@ def test_a_point_that_is_not_finite_is_refused_wherever_it_is_in_the_stack():
             project_each(manifold, spoiled)
         with pytest.raises(ValueError, match="non-finite"):
             jacobian_ranks(manifold, spoiled)
+
+
+def test_no_seeds_are_no_points():
+    """An empty list of seeds (the loci's seeds of a kind that has none) is an empty stack, as the loop over it was."""
+    from manifold import project_each
+
+    manifold = configuration_space(MECHANISMS["five-bar"]())
+    projected, projected_ok = project_each(manifold, [])
+    assert projected.shape == (0, manifold.ambient.point_size) and projected_ok.shape == (0,)
