@@ -585,9 +585,10 @@ def project_many(manifold, points, tolerance=1e-12, max_iterations=60, max_step=
     ambient = manifold.ambient
     scales = ambient.tangent_scales
     requested = np.asarray(points, dtype=float)
-    projected = requested.reshape(math.prod(requested.shape[:-1]), ambient.point_size).copy()  # point_size may be 0
-    if not len(projected):  # an empty stack: nothing to project
+    count = math.prod(requested.shape[:-1])  # not a reshape with -1: point_size may be 0
+    if not count or (requested.shape == (0,) and ambient.point_size):  # an empty stack: nothing to project
         return requested.copy(), np.zeros(requested.shape[:-1], dtype=bool)
+    projected = requested.reshape(count, ambient.point_size).copy()
     blocked = handled_by_blocks(manifold)
 
     def constraint(stack):
