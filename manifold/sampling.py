@@ -185,8 +185,9 @@ def _secant_decompositions(manifold, points, bases, step):
     :func:`tangent_extent`.
 
     The moved points are projected by :func:`~manifold.project_many` in chunks whose dense Jacobians hold
-    about :data:`~manifold.implicit.CHUNK_ENTRIES` floats, or one by one by :func:`~manifold.project` on a
-    manifold handled block by block (no dense Jacobian of it is formed). A projection that stops short of
+    about :data:`~manifold.implicit.CHUNK_ENTRIES` floats, or as :func:`~manifold.project` projects each
+    (:func:`~manifold.project_each`, block by block: no dense Jacobian is formed) on a manifold handled block
+    by block. A projection that stops short of
     its tolerance (at the rounding floor of a map with large entries) still gives its point: only a point
     that is not finite counts as a secant of zero.
     """
@@ -198,8 +199,9 @@ def _secant_decompositions(manifold, points, bases, step):
     starts = np.repeat(points, width, axis=0)                                       # [n·m, point_size]
     directions = np.swapaxes(bases, -1, -2).reshape(count * width, k)               # [n·m, k]
     predicted = ambient.retract(starts, step * directions)
-    if handled_by_blocks(manifold):
-        moved = np.array([_projected_or_nan(manifold, guess, step) for guess in predicted])
+    if handled_by_blocks(manifold):  # as project with steps capped at 2·step, NaN where it raises
+        moved, reached = project_each(manifold, predicted, max_step=2 * step)
+        moved[~reached] = np.nan
     else:
         rows = max(1, np.shape(manifold.constraint(points[:1]))[-1])
         chunk = max(1, implicit_module.CHUNK_ENTRIES // (rows * k))
@@ -210,14 +212,6 @@ def _secant_decompositions(manifold, points, bases, step):
     secants = np.swapaxes(secants.reshape(count, width, k), -1, -2)                 # [n, k, m]
     _, values, right_transposed = np.linalg.svd(secants, full_matrices=True)
     return values, right_transposed
-
-
-def _projected_or_nan(manifold, guess, step):
-    """:func:`~manifold.project` of `guess`, or NaN where it fails."""
-    try:
-        return project(manifold, guess, max_step=2 * step)
-    except ProjectionError:
-        return np.full(np.shape(guess), np.nan)
 
 
 def sample_manifold(manifold, rng, starts, random_count=24, walk_count=24, step=0.3):

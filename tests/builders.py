@@ -341,3 +341,23 @@ ROBOTS = Path(__file__).resolve().parent / "data" / "robots"
 def robot_arguments(name):
     """The command-line arguments of a sample robot: its URDF and ``--closures`` file."""
     return [str(ROBOTS / name / "robot.urdf"), "--closures", str(ROBOTS / name / "robot.yaml")]
+
+
+# --------------------------------------------------------------------------- structures that only flex
+
+def flat_triangle(order=(0, 1, 2), offset=(0.0, 0.0)):
+    """Three collinear revolute joints closing a loop on the ground: a structure that only flexes (M a point)."""
+    joints = [Joint("J1", "R", ("ground", "a"), point=(0.0 + offset[0], offset[1])),
+              Joint("J2", "R", ("a", "b"), point=(1.0 + offset[0], offset[1])),
+              Joint("J3", "R", ("b", "ground"), point=(2.0 + offset[0], offset[1]))]
+    return Mechanism("flat triangle", "planar", [joints[index] for index in order])
+
+
+def stretched_four_bar(order=(0, 1, 2, 3), offset=(0.0, 0.0)):
+    """A four-bar stretched flat (its four joints collinear): it only flexes; the end-effector on the middle link."""
+    joints = [Joint("J1", "R", ("ground", "a"), point=(0.0 + offset[0], offset[1]), actuated=True),
+              Joint("J2", "R", ("a", "b"), point=(1.0 + offset[0], offset[1])),
+              Joint("J3", "R", ("b", "c"), point=(2.0 + offset[0], offset[1])),
+              Joint("J4", "R", ("c", "ground"), point=(3.0 + offset[0], offset[1]))]
+    return Mechanism("stretched four-bar", "planar", [joints[index] for index in order],
+                     end_effector=EndEffector("b", (1.5 + offset[0], offset[1]), "position"))

@@ -73,7 +73,7 @@ def test_a_crank_of_a_stretched_four_bar_is_lost_to_the_cspace_singularity_not_r
     """A four-bar fully stretched (1 + 1 + 1 = 3) is a point of M, dof 0: its one crank is not a redundant
     actuator (the four-bar has k − 3 = 1 freedom wherever DΦ has its rank 3); G–A is undefined because of
     the C-space singularity (it said ``redundant_actuation``)."""
-    from test_flexes import stretched_four_bar
+    from builders import stretched_four_bar
 
     mechanism = stretched_four_bar()
     result = compare(joint_output_model(mechanism, ["J3"]), [home(mechanism)])

@@ -11,26 +11,10 @@ dimension its rank says).
 import numpy as np
 import pytest
 
-from builders import bennett
+from builders import bennett, flat_triangle, stretched_four_bar
 from classify import classify, classify_many
 from manifold import AmbientSpace, ImplicitManifold, tangent_basis, tangent_extent
 from mechanisms import EndEffector, Joint, Mechanism, home
-
-
-def flat_triangle(order=(0, 1, 2), offset=(0.0, 0.0)):
-    joints = [Joint("J1", "R", ("ground", "a"), point=(0.0 + offset[0], offset[1])),
-              Joint("J2", "R", ("a", "b"), point=(1.0 + offset[0], offset[1])),
-              Joint("J3", "R", ("b", "ground"), point=(2.0 + offset[0], offset[1]))]
-    return Mechanism("flat triangle", "planar", [joints[index] for index in order])
-
-
-def stretched_four_bar(order=(0, 1, 2, 3), offset=(0.0, 0.0)):
-    joints = [Joint("J1", "R", ("ground", "a"), point=(0.0 + offset[0], offset[1]), actuated=True),
-              Joint("J2", "R", ("a", "b"), point=(1.0 + offset[0], offset[1])),
-              Joint("J3", "R", ("b", "c"), point=(2.0 + offset[0], offset[1])),
-              Joint("J4", "R", ("c", "ground"), point=(3.0 + offset[0], offset[1]))]
-    return Mechanism("stretched four-bar", "planar", [joints[index] for index in order],
-                     end_effector=EndEffector("b", (1.5 + offset[0], offset[1]), "position"))
 
 
 @pytest.mark.parametrize("build, flexes", [(flat_triangle, 1), (stretched_four_bar, 2)])

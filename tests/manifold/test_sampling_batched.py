@@ -210,3 +210,22 @@ def test_no_seeds_are_no_points():
     manifold = configuration_space(MECHANISMS["five-bar"]())
     projected, projected_ok = project_each(manifold, [])
     assert projected.shape == (0, manifold.ambient.point_size) and projected_ok.shape == (0,)
+
+
+def test_tangent_extent_block_by_block_is_the_dense_one(monkeypatch):
+    """tangent_extent's secants on a manifold handled block by block come from project_each (steps capped, NaN
+    where project would raise): the same extent and secant singular values as the dense path's, on a structure
+    that only flexes, a stretched four-bar and Bennett's linkage (BLOCK_THRESHOLD lowered to put them on it)."""
+    from builders import bennett, flat_triangle, stretched_four_bar
+    from manifold import handled_by_blocks, implicit, tangent_basis, tangent_extent
+
+    for mechanism in (flat_triangle(), stretched_four_bar(), bennett()):
+        manifold, point = configuration_space(mechanism), home(mechanism)
+        basis = tangent_basis(manifold, point)[0] * manifold.ambient.tangent_scales[:, None]
+        dense = tangent_extent(manifold, point, basis)
+        with monkeypatch.context() as patch:
+            patch.setattr(implicit, "BLOCK_THRESHOLD", 1)
+            assert handled_by_blocks(manifold)
+            blocked = tangent_extent(manifold, point, basis)
+        assert blocked.extent == dense.extent
+        np.testing.assert_allclose(blocked.singular_values, dense.singular_values, rtol=1e-9, atol=1e-12)
