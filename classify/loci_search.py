@@ -192,9 +192,8 @@ def _search_zeros(model, value, gradient, seeds, step):
                                  max_iterations=CSPACE_ITERATIONS, max_step=4 * step)
     near, reached = project_each(model.manifold, near[reached], tolerance=TOLERANCE)  # Φ to the loci's (≪ 1e-8)
     found = []
-    for on in near[reached]:
-        if (curve.is_solution is not None and not curve.is_solution(on)) or (
-                found and _distances(ambient, on[None], np.array(found))[0] < step):
+    for on in near[reached]:  # project_each applied is_solution (the curve's is M's)
+        if found and _distances(ambient, on[None], np.array(found))[0] < step:
             continue
         found.append(on)
     points = np.array(found).reshape(-1, ambient.point_size)
